@@ -1,0 +1,61 @@
+//! Errors a user can act on.
+
+use thiserror::Error;
+
+/// One Newton iteration, kept so that a failure can show how it went.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct IterationRecord {
+    /// Iteration number, 0 for the initial guess.
+    pub iteration: usize,
+    /// Norm of the residual at the start of this iteration.
+    pub residual_norm: f64,
+    /// Norm of the Newton increment taken (0 before the first step).
+    pub step_norm: f64,
+    /// Damping factor applied to the increment (1 = full Newton step).
+    pub damping: f64,
+}
+
+/// Everything that can go wrong in ihbm.
+#[derive(Debug, Error)]
+pub enum Error {
+    /// A parameter name the model does not declare.
+    #[error("unknown parameter '{name}' for model '{model}' (known: {known})")]
+    UnknownParameter { name: String, model: String, known: String },
+    /// An output name the model does not declare.
+    #[error("unknown output '{name}' for model '{model}' (known: {known})")]
+    UnknownOutput { name: String, model: String, known: String },
+    /// A model name that is not registered.
+    #[error("unknown model '{name}' (known: {known})")]
+    UnknownModel { name: String, known: String },
+    /// A value outside what the method accepts.
+    #[error("invalid {what}: {value} (expected {expected})")]
+    InvalidValue { what: String, value: String, expected: String },
+    /// Newton did not converge; the last iterate is kept.
+    #[error("Newton did not converge at omega = {omega} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept")]
+    NotConverged {
+        omega: f64,
+        iterations: usize,
+        residual_norm: f64,
+        /// The last iterate (Fourier coefficients).
+        last: Vec<f64>,
+        history: Vec<IterationRecord>,
+    },
+    /// The Jacobian could not be factorised.
+    #[error("singular Jacobian at omega = {omega}: {detail}")]
+    SingularJacobian { omega: f64, detail: String },
+    /// A time integration blew up.
+    #[error("time integration diverged at t = {time} s: {detail}")]
+    Diverged { time: f64, detail: String },
+    /// Reading or writing a file.
+    #[error("{path}: {source}")]
+    Io { path: String, source: std::io::Error },
+    /// A study file that does not parse.
+    #[error("{0}")]
+    Study(String),
+    /// Anything else with a message.
+    #[error("{0}")]
+    Other(String),
+}
+
+/// Shorthand for results in this crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,248 @@
+//! The model trait: what an oscillator tells the solvers about itself.
+//!
+//! A model is a set of equations `r_e(signals, θ) = 0`, one per degree of freedom,
+//! that are polynomial in a fixed list of *signals*. A signal is a derivative of a
+//! linear combination of DOFs: displacement (order 0), velocity (1), acceleration (2)
+//! or a fractional derivative of order `p` taken from a parameter. The solvers turn
+//! Fourier coefficients into signal values; the model only evaluates its equations at
+//! one time sample. The residual is generic over dual numbers, so every Jacobian
+//! (with respect to signals, Ω or any parameter) comes from one code path and no
+//! derivative is ever written by hand.
+
+use crate::error::Error;
+use num_dual::DualNum;
+
+/// The derivative order of a signal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Order {
+    /// An integer order: 0 (the value itself), 1, 2, ...
+    Int(u32),
+    /// A fractional order given by the parameter with this index (steady-state
+    /// Weyl/Caputo sense: `D^p e^{ikΩt} = (ikΩ)^p e^{ikΩt}`, `D^p const = 0` for p > 0).
+    Param(usize),
+}
+
+/// One signal the residual reads: `D^order (Σ coef · x_dof)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Signal {
+    /// The linear combination of DOFs, as `(dof index, coefficient)` pairs.
+    pub terms: &'static [(usize, f64)],
+    /// The derivative order applied to the combination.
+    pub order: Order,
+}
+
+/// A named observable: a linear combination of DOFs that results report.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Output {
+    /// The name used in JSON, CSV and plots.
+    pub name: &'static str,
+    /// `(dof index, coefficient)` pairs.
+    pub terms: &'static [(usize, f64)],
+}
+
+/// A declared parameter: name, default value and a line of documentation (units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamInfo {
+    /// Name used by `--set NAME=VALUE` and study files.
+    pub name: &'static str,
+    /// The declared default value.
+    pub default: f64,
+    /// What it is, with units.
+    pub doc: &'static str,
+}
+
+/// An oscillator whose periodic steady state the solvers can compute.
+///
+/// Implement it by hand or let [`oscillator!`](crate::oscillator) generate it.
+/// Parameters are addressed by index in the order of [`Model::params_info`].
+///
+/// ```
+/// use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
+/// use num_dual::DualNum;
+///
+/// /// m x'' + c x' + k x = F cos(Ωt)
+/// #[derive(Clone, Default)]
+/// struct Linear { m: f64, c: f64, k: f64, f: f64 }
+///
+/// impl Model for Linear {
+///     fn name(&self) -> &'static str { "linear" }
+///     fn dofs(&self) -> &'static [&'static str] { &["x"] }
+///     fn params_info(&self) -> &'static [ParamInfo] {
+///         const P: [ParamInfo; 4] = [
+///             ParamInfo { name: "m", default: 1.0, doc: "mass (kg)" },
+///             ParamInfo { name: "c", default: 0.1, doc: "damping (N s/m)" },
+///             ParamInfo { name: "k", default: 1.0, doc: "stiffness (N/m)" },
+///             ParamInfo { name: "F", default: 1.0, doc: "force amplitude (N)" },
+///         ];
+///         &P
+///     }
+///     fn param_value(&self, i: usize) -> f64 { [self.m, self.c, self.k, self.f][i] }
+///     fn set_param_value(&mut self, i: usize, v: f64) {
+///         *[&mut self.m, &mut self.c, &mut self.k, &mut self.f][i] = v;
+///     }
+///     fn signals(&self) -> &'static [Signal] {
+///         const X: &[(usize, f64)] = &[(0, 1.0)];
+///         const S: [Signal; 3] = [
+///             Signal { terms: X, order: Order::Int(0) },
+///             Signal { terms: X, order: Order::Int(1) },
+///             Signal { terms: X, order: Order::Int(2) },
+///         ];
+///         &S
+///     }
+///     fn outputs(&self) -> &'static [Output] {
+///         const O: [Output; 1] = [Output { name: "x", terms: &[(0, 1.0)] }];
+///         &O
+///     }
+///     fn degree(&self) -> usize { 1 }
+///     fn residual<D: DualNum<Primitive = f64> + Copy>(
+///         &self, p: &[D], _omega: D, phase: f64, s: &[D], r: &mut [D],
+///     ) {
+///         r[0] = p[0] * s[2] + p[1] * s[1] + p[2] * s[0] - p[3] * phase.cos();
+///     }
+/// }
+///
+/// let mut m = Linear { m: 1.0, c: 0.1, k: 1.0, f: 1.0 };
+/// m.set_param("k", 4.0).unwrap();
+/// assert_eq!(m.param("k").unwrap(), 4.0);
+/// assert!(m.set_param("q", 1.0).is_err());
+/// ```
+pub trait Model: Send + Sync {
+    /// A short name (the CLI's model name for built-in models).
+    fn name(&self) -> &'static str;
+
+    /// One line (or a paragraph) saying what the model is.
+    fn description(&self) -> &'static str {
+        ""
+    }
+
+    /// Names of the degrees of freedom, in coefficient order.
+    fn dofs(&self) -> &'static [&'static str];
+
+    /// Declared parameters: names, defaults, docs.
+    fn params_info(&self) -> &'static [ParamInfo];
+
+    /// The current value of parameter `index` (`index < params_info().len()`).
+    fn param_value(&self, index: usize) -> f64;
+
+    /// Set parameter `index` (`index < params_info().len()`).
+    fn set_param_value(&mut self, index: usize, value: f64);
+
+    /// The signals the residual reads, in the order of its `signals` argument.
+    fn signals(&self) -> &'static [Signal];
+
+    /// Named observables reported in results.
+    fn outputs(&self) -> &'static [Output];
+
+    /// Polynomial degree of the residual in the signals (1 for a linear model, 3 for
+    /// a cubic spring). Sets the alias-free sample count.
+    fn degree(&self) -> usize;
+
+    /// The highest harmonic of the forcing (`cos(k Ω t)` with `k` up to this).
+    fn max_forcing_harmonic(&self) -> usize {
+        1
+    }
+
+    /// The equations as text, for `ihbm models NAME`.
+    fn equations(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Evaluate all equations at one time sample.
+    ///
+    /// - `params`: parameter values, in `params_info` order (dual numbers so that
+    ///   derivatives with respect to parameters come for free);
+    /// - `omega`: the forcing frequency Ω in rad/s;
+    /// - `phase`: `Ω t` at this sample (forcing terms are `cos(k·phase)`, `sin(k·phase)`);
+    /// - `signals`: the signal values at this sample, in `signals()` order;
+    /// - `out`: one residual per DOF, written (not accumulated).
+    fn residual<D: DualNum<Primitive = f64> + Copy>(
+        &self,
+        params: &[D],
+        omega: D,
+        phase: f64,
+        signals: &[D],
+        out: &mut [D],
+    );
+
+    /// Index of the parameter called `name`.
+    fn param_index(&self, name: &str) -> Result<usize, Error> {
+        self.params_info().iter().position(|p| p.name == name).ok_or_else(|| {
+            Error::UnknownParameter {
+                name: name.to_string(),
+                model: self.name().to_string(),
+                known: self.params_info().iter().map(|p| p.name).collect::<Vec<_>>().join(", "),
+            }
+        })
+    }
+
+    /// The value of the parameter called `name`.
+    fn param(&self, name: &str) -> Result<f64, Error> {
+        Ok(self.param_value(self.param_index(name)?))
+    }
+
+    /// Set the parameter called `name`; unknown names and non-finite values are errors.
+    fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        let i = self.param_index(name)?;
+        if !value.is_finite() {
+            return Err(Error::InvalidValue {
+                what: format!("parameter {name}"),
+                value: value.to_string(),
+                expected: "a finite number".into(),
+            });
+        }
+        self.set_param_value(i, value);
+        Ok(())
+    }
+
+    /// All parameter values, in `params_info` order.
+    fn param_values(&self) -> Vec<f64> {
+        (0..self.params_info().len()).map(|i| self.param_value(i)).collect()
+    }
+
+    /// Index of the output called `name`.
+    fn output_index(&self, name: &str) -> Result<usize, Error> {
+        self.outputs().iter().position(|o| o.name == name).ok_or_else(|| Error::UnknownOutput {
+            name: name.to_string(),
+            model: self.name().to_string(),
+            known: self.outputs().iter().map(|o| o.name).collect::<Vec<_>>().join(", "),
+        })
+    }
+
+    /// Check what the solvers rely on: fractional orders in [0, 2], finite parameters,
+    /// one equation per DOF. Called by every solver entry point.
+    fn validate(&self) -> Result<(), Error> {
+        for (i, info) in self.params_info().iter().enumerate() {
+            let v = self.param_value(i);
+            if !v.is_finite() {
+                return Err(Error::InvalidValue {
+                    what: format!("parameter {}", info.name),
+                    value: v.to_string(),
+                    expected: "a finite number".into(),
+                });
+            }
+        }
+        for s in self.signals() {
+            if let Order::Param(i) = s.order {
+                let v = self.param_value(i);
+                if !(0.0..=2.0).contains(&v) {
+                    return Err(Error::InvalidValue {
+                        what: format!("fractional order {}", self.params_info()[i].name),
+                        value: v.to_string(),
+                        expected: "a value in [0, 2]".into(),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Order {
+    /// The numeric order for the current parameter values.
+    pub fn value(&self, params: &[f64]) -> f64 {
+        match *self {
+            Order::Int(n) => n as f64,
+            Order::Param(i) => params[i],
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! (in progress: CLI issue)
