@@ -42,3 +42,118 @@ impl std::fmt::Display for SegmentEnd {
         }
     }
 }
+
+/// The per-point summary of one output on a curve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PointOutput {
+    /// Largest |x(t)| over one period.
+    pub max_abs: f64,
+    /// Mean value (a0).
+    pub mean: f64,
+    /// First-harmonic amplitude.
+    pub amp1: f64,
+}
+
+/// One converged point of a traced curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvePoint {
+    /// Forcing frequency Ω, rad/s.
+    pub omega: f64,
+    /// Value of the continuation parameter (equal to `omega` for a frequency sweep).
+    pub param: f64,
+    /// Fourier coefficients, layout `[a0, a1..aN, b1..bN]` per DOF.
+    pub coeffs: Vec<f64>,
+    /// Stability verdict (Hill's method); `true` means no growing mode was found.
+    pub stable: bool,
+    /// Per output, in model output order.
+    pub outputs: Vec<PointOutput>,
+    /// Index of the segment this point belongs to.
+    pub segment: usize,
+}
+
+/// A fold (turning point) of a curve, located to 1e-8 relative in the parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fold {
+    /// Forcing frequency at the fold.
+    pub omega: f64,
+    /// Continuation parameter at the fold.
+    pub param: f64,
+    /// Fourier coefficients at the fold.
+    pub coeffs: Vec<f64>,
+    /// Per output, in model output order.
+    pub outputs: Vec<PointOutput>,
+    /// The fold lies between `points[after]` and `points[after + 1]`.
+    pub after: usize,
+}
+
+/// Direction of a slow sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    /// Increasing parameter (forward scan).
+    Up,
+    /// Decreasing parameter (reverse scan).
+    Down,
+}
+
+/// Where a slow sweep in one direction would jump, and between which amplitudes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Jump {
+    /// Sweep direction.
+    pub direction: Direction,
+    /// Parameter value (Ω for frequency sweeps) of the jump.
+    pub omega: f64,
+    /// The output the amplitudes refer to.
+    pub output: String,
+    /// `max_abs` before the jump.
+    pub from: f64,
+    /// `max_abs` after the jump.
+    pub to: f64,
+}
+
+/// One piece of a traced curve and how it ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment {
+    /// Parameter value where the segment starts.
+    pub from_omega: f64,
+    /// Parameter value where it ended.
+    pub to_omega: f64,
+    /// Why it ended.
+    pub ended: SegmentEnd,
+}
+
+/// Counters for a traced curve (snapshot-tested).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct CurveStats {
+    /// Accepted continuation steps.
+    pub steps: usize,
+    /// Rejected (halved) steps.
+    pub rejected_steps: usize,
+    /// Corrector (Newton) iterations, all steps together.
+    pub corrector_iterations: usize,
+    /// Folds found.
+    pub folds: usize,
+}
+
+/// A traced amplitude–frequency (or amplitude–parameter) curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// Model name.
+    pub model: String,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+    /// Name of the continuation parameter (`"omega"` for frequency sweeps).
+    pub parameter: String,
+    /// Output names, in model order (the order of every `outputs` vector).
+    pub output_names: Vec<String>,
+    /// Points in arc-length order.
+    pub points: Vec<CurvePoint>,
+    /// Folds in arc-length order.
+    pub folds: Vec<Fold>,
+    /// Jumps of slow up and down sweeps.
+    pub jumps: Vec<Jump>,
+    /// The pieces of the curve.
+    pub segments: Vec<Segment>,
+    /// Solver counters.
+    pub stats: CurveStats,
+}
