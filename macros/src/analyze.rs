@@ -6,10 +6,9 @@
 //! says what is allowed instead.
 
 use crate::parse::{literal_value, ModelDef};
-use proc_macro2::Span;
+use proc_macro2::{Span, TokenStream};
 use quote::ToTokens;
 use std::collections::{BTreeMap, HashMap};
-use syn::spanned::Spanned;
 use syn::{BinOp, Expr, Lit, UnOp};
 
 /// Names the DSL keeps for itself.
@@ -88,7 +87,7 @@ struct Lin {
     dofs: BTreeMap<usize, CoefPoly>,
     konst: CoefPoly,
     /// Where a constant term came from (for the error message).
-    konst_span: Option<Span>,
+    konst_span: Option<Sp>,
 }
 
 impl Lin {
@@ -159,9 +158,9 @@ pub struct Info {
     /// Polynomial degree in the signals.
     pub degree: u32,
     /// Span of a DOF-dependent subterm, if any.
-    dof: Option<Span>,
+    dof: Option<Sp>,
     /// Span of a forcing subterm, if any.
-    forcing: Option<Span>,
+    forcing: Option<Sp>,
     /// Highest forcing harmonic inside.
     pub max_k: u32,
 }
@@ -204,8 +203,38 @@ struct Ctx<'a> {
     aliases: Vec<(Node, Info, bool)>,
 }
 
-fn err<T>(span: Span, msg: impl std::fmt::Display) -> syn::Result<T> {
-    Err(syn::Error::new(span, msg))
+/// A source range: the first and last token of the offending code. (`Span::join` is
+/// nightly-only; `syn::Error::new_spanned` underlines from the first to the last token.)
+#[derive(Debug, Clone, Copy)]
+pub struct Sp(Span, Span);
+
+impl Sp {
+    /// The range covered by `t`.
+    pub fn of(t: &impl ToTokens) -> Sp {
+        let mut it = t.to_token_stream().into_iter();
+        let first = it.next().map_or_else(Span::call_site, |t| t.span());
+        let last = it.last().map_or(first, |t| t.span());
+        Sp(first, last)
+    }
+}
+
+impl From<Span> for Sp {
+    fn from(s: Span) -> Sp {
+        Sp(s, s)
+    }
+}
+
+impl ToTokens for Sp {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        tokens.extend([
+            proc_macro2::TokenTree::Ident(proc_macro2::Ident::new("a", self.0)),
+            proc_macro2::TokenTree::Ident(proc_macro2::Ident::new("b", self.1)),
+        ]);
+    }
+}
+
+fn err<T>(span: impl Into<Sp>, msg: impl std::fmt::Display) -> syn::Result<T> {
+    Err(syn::Error::new_spanned(span.into(), msg))
 }
 
 /// Source text of an expression, for messages and `equations()`.
@@ -250,7 +279,7 @@ fn ident_of(e: &Expr) -> Option<&syn::Ident> {
 }
 
 /// `k` of `cos(k * omega * t)`, or an error saying what forcing may look like.
-fn harmonic(arg: &Expr, call_span: Span, call_text: &str) -> syn::Result<u32> {
+fn harmonic(arg: &Expr, call_span: Sp, call_text: &str) -> syn::Result<u32> {
     let bad = || {
         err(
             call_span,
@@ -271,7 +300,7 @@ fn harmonic(arg: &Expr, call_span: Span, call_text: &str) -> syn::Result<u32> {
     };
     let literal_k = |e: &Expr| -> syn::Result<u32> {
         let e = strip(e);
-        let not_int = |span: Span, text: String| {
+        let not_int = |span: Sp, text: String| {
             err(
                 span,
                 format!(
@@ -284,17 +313,17 @@ fn harmonic(arg: &Expr, call_span: Span, call_text: &str) -> syn::Result<u32> {
         match e {
             Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => match i.base10_parse::<u32>() {
                 Ok(k) if k > 0 => Ok(k),
-                _ => not_int(i.span(), i.base10_digits().to_string()),
+                _ => not_int(Sp::of(&i), i.base10_digits().to_string()),
             },
             Expr::Lit(syn::ExprLit { lit: Lit::Float(f), .. }) => {
                 let v: f64 = f.base10_parse()?;
                 if v.fract() == 0.0 && v >= 1.0 && v <= u32::MAX as f64 {
                     Ok(v as u32)
                 } else {
-                    not_int(f.span(), f.base10_digits().to_string())
+                    not_int(Sp::of(&f), f.base10_digits().to_string())
                 }
             }
-            other => not_int(other.span(), show(other)),
+            other => not_int(Sp::of(&other), show(other)),
         }
     };
     let arg = strip(arg);
@@ -325,7 +354,7 @@ impl<'a> Ctx<'a> {
         let s = ident.to_string();
         if RESERVED.contains(&s.as_str()) {
             return err(
-                ident.span(),
+                Sp::of(&ident),
                 format!(
                     "`{s}` is a reserved name in oscillator! (`omega` is the forcing frequency, \
                      `t` the time, `D` the derivative); choose another name"
@@ -334,7 +363,7 @@ impl<'a> Ctx<'a> {
         }
         if let Some(prev) = self.names.get(&s) {
             return err(
-                ident.span(),
+                Sp::of(&ident),
                 format!("duplicate name `{s}`: already declared as {}", prev.kind()),
             );
         }
@@ -349,7 +378,7 @@ impl<'a> Ctx<'a> {
         }
         if s == "t" {
             return err(
-                ident.span(),
+                Sp::of(&ident),
                 "`t` may only appear inside forcing `cos(k * omega * t)` / `sin(k * omega * t)`",
             );
         }
@@ -360,7 +389,7 @@ impl<'a> Ctx<'a> {
             v.into_iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
         };
         err(
-            ident.span(),
+            Sp::of(&ident),
             format!(
                 "unknown name `{s}`: not a parameter ({}), DOF ({}) or `let` alias declared \
                  above ({})",
@@ -381,14 +410,11 @@ impl<'a> Ctx<'a> {
 
     /// The linear form of `e` in the DOFs (for `D` arguments and outputs).
     fn linear(&self, e: &Expr) -> syn::Result<Lin> {
-        let konst = |c: CoefPoly, span: Span| Lin {
-            dofs: BTreeMap::new(),
-            konst: c,
-            konst_span: Some(span),
-        };
+        let konst =
+            |c: CoefPoly, span: Sp| Lin { dofs: BTreeMap::new(), konst: c, konst_span: Some(span) };
         let not_linear = |e: &Expr, why: &str| {
             err(
-                e.span(),
+                Sp::of(&e),
                 format!(
                     "`{}` is not linear in the DOFs ({why}): here only a DOF, a `let` alias of a \
                      linear combination, or a linear combination with parameter/literal \
@@ -400,16 +426,16 @@ impl<'a> Ctx<'a> {
         match e {
             Expr::Paren(p) => self.linear(&p.expr),
             Expr::Group(g) => self.linear(&g.expr),
-            Expr::Lit(l) => Ok(konst(CoefPoly::constant(literal_value(&l.lit)?), l.span())),
+            Expr::Lit(l) => Ok(konst(CoefPoly::constant(literal_value(&l.lit)?), Sp::of(&l))),
             Expr::Path(_) => {
                 let Some(ident) = ident_of(e) else {
-                    return err(e.span(), format!("unknown name `{}`", show(e)));
+                    return err(Sp::of(&e), format!("unknown name `{}`", show(e)));
                 };
                 if ident == "omega" {
-                    return Ok(konst(CoefPoly::atom(Atom::Omega), ident.span()));
+                    return Ok(konst(CoefPoly::atom(Atom::Omega), Sp::of(&ident)));
                 }
                 match self.lookup(ident)? {
-                    Name::Param(i) => Ok(konst(CoefPoly::atom(Atom::Param(i)), ident.span())),
+                    Name::Param(i) => Ok(konst(CoefPoly::atom(Atom::Param(i)), Sp::of(&ident))),
                     Name::Dof(i) => Ok(Lin {
                         dofs: BTreeMap::from([(i, CoefPoly::constant(1.0))]),
                         ..Lin::default()
@@ -443,9 +469,9 @@ impl<'a> Ctx<'a> {
                                 };
                                 Ok(l.scale(&CoefPoly(vec![inv])))
                             }
-                            [] => err(b.right.span(), "division by zero"),
+                            [] => err(Sp::of(&b.right), "division by zero"),
                             _ => err(
-                                b.right.span(),
+                                Sp::of(&b.right),
                                 "inside `D(...)` and outputs, divide only by a product of \
                                  parameters and literals",
                             ),
@@ -459,7 +485,7 @@ impl<'a> Ctx<'a> {
                 let base = self.linear(&m.receiver)?;
                 if base.has_dofs() {
                     match k {
-                        0 => Ok(konst(CoefPoly::constant(1.0), m.span())),
+                        0 => Ok(konst(CoefPoly::constant(1.0), Sp::of(&m))),
                         1 => Ok(base),
                         _ => not_linear(e, "a power of a DOF term"),
                     }
@@ -468,7 +494,7 @@ impl<'a> Ctx<'a> {
                     for _ in 0..k {
                         c = c.mul(&base.konst);
                     }
-                    Ok(konst(c, m.span()))
+                    Ok(konst(c, Sp::of(&m)))
                 }
             }
             Expr::Call(c) if ident_of(&c.func).is_some_and(|i| i == "D") => {
@@ -485,13 +511,13 @@ impl<'a> Ctx<'a> {
         let msg = "`.powi(k)` needs an integer literal k >= 0 (negative or non-literal powers \
                    are not polynomial)";
         if m.args.len() != 1 {
-            return err(m.method.span(), msg);
+            return err(Sp::of(&m.method), msg);
         }
         match strip(&m.args[0]) {
             Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => {
-                i.base10_parse::<u32>().or_else(|_| err(i.span(), msg))
+                i.base10_parse::<u32>().or_else(|_| err(Sp::of(&i), msg))
             }
-            other => err(other.span(), msg),
+            other => err(Sp::of(&other), msg),
         }
     }
 
@@ -500,7 +526,7 @@ impl<'a> Ctx<'a> {
     fn derivative(&mut self, c: &syn::ExprCall) -> syn::Result<(Node, Info)> {
         if c.args.len() != 2 {
             return err(
-                c.span(),
+                Sp::of(&c),
                 "`D` takes two arguments: `D(e, n)` with e linear in the DOFs and n an \
                  integer literal or a parameter name",
             );
@@ -511,11 +537,11 @@ impl<'a> Ctx<'a> {
         let order = match strip(n) {
             Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => match i.base10_parse::<u32>() {
                 Ok(k) => OrderKey::Int(k),
-                Err(_) => return err(i.span(), order_msg),
+                Err(_) => return err(Sp::of(&i), order_msg),
             },
             Expr::Lit(syn::ExprLit { lit: Lit::Float(f), .. }) => {
                 return err(
-                    f.span(),
+                    Sp::of(&f),
                     format!(
                         "{order_msg}; for a fractional order declare a parameter, e.g. \
                          `p = {}`, and write `D(e, p)`",
@@ -528,18 +554,18 @@ impl<'a> Ctx<'a> {
                     Name::Param(i) => OrderKey::Param(i),
                     name => {
                         return err(
-                            ident.span(),
+                            Sp::of(&ident),
                             format!("{order_msg}; `{ident}` is {}", name.kind()),
                         )
                     }
                 },
-                None => return err(other.span(), order_msg),
+                None => return err(Sp::of(&other), order_msg),
             },
         };
         let lin = self.linear(e)?;
         if !lin.konst.is_zero() {
             return err(
-                lin.konst_span.unwrap_or_else(|| e.span()),
+                lin.konst_span.unwrap_or_else(|| Sp::of(&e)),
                 format!(
                     "`D(e, n)` needs e to be a linear combination of DOFs without a constant \
                      term; `{}` has one",
@@ -595,9 +621,9 @@ impl<'a> Ctx<'a> {
             });
         }
         let Some(node) = node else {
-            return err(e.span(), format!("`D({}, ...)` has no DOF term", show(e)));
+            return err(Sp::of(&e), format!("`D({}, ...)` has no DOF term", show(e)));
         };
-        Ok((node, Info { degree: 1, dof: Some(c.span()), forcing: None, max_k: 0 }))
+        Ok((node, Info { degree: 1, dof: Some(Sp::of(&c)), forcing: None, max_k: 0 }))
     }
 
     /// Convert an expression in value context, checking that it is polynomial.
@@ -610,7 +636,7 @@ impl<'a> Ctx<'a> {
             Expr::Path(_) => {
                 let Some(ident) = ident_of(e) else {
                     return err(
-                        e.span(),
+                        Sp::of(&e),
                         format!("unknown name `{}`: use plain names declared above", show(e)),
                     );
                 };
@@ -624,13 +650,13 @@ impl<'a> Ctx<'a> {
                             .signal(SignalKey { terms: vec![(i, 1.0)], order: OrderKey::Int(0) });
                         Ok((
                             Node::Signal(s),
-                            Info { degree: 1, dof: Some(ident.span()), forcing: None, max_k: 0 },
+                            Info { degree: 1, dof: Some(Sp::of(&ident)), forcing: None, max_k: 0 },
                         ))
                     }
                     Name::Alias(i) => {
                         let info = self.aliases[i].1;
                         // Point messages at this use, not at the alias's definition.
-                        let at = ident.span();
+                        let at = Sp::of(&ident);
                         Ok((
                             Node::Alias(i),
                             Info {
@@ -672,11 +698,11 @@ impl<'a> Ctx<'a> {
                     return Ok((Node::Powi(Box::new(n), k), info));
                 }
                 if (name == "cos" || name == "sin") && m.args.is_empty() {
-                    let k = harmonic(&m.receiver, e.span(), &show(e))?;
-                    return self.forcing(&name, k, e.span());
+                    let k = harmonic(&m.receiver, Sp::of(&e), &show(e))?;
+                    return self.forcing(&name, k, Sp::of(&e));
                 }
                 err(
-                    m.method.span(),
+                    Sp::of(&m.method),
                     format!(
                         "`.{name}(...)` is not allowed: only `.powi(k)` with an integer literal \
                          k >= 0 keeps the model polynomial"
@@ -685,20 +711,20 @@ impl<'a> Ctx<'a> {
             }
             Expr::Call(c) => {
                 let Some(f) = ident_of(&c.func) else {
-                    return err(c.func.span(), format!("unsupported function: {ALLOWED}"));
+                    return err(Sp::of(&c.func), format!("unsupported function: {ALLOWED}"));
                 };
                 let fname = f.to_string();
                 match fname.as_str() {
                     "D" => self.derivative(c),
                     "cos" | "sin" => {
                         if c.args.len() != 1 {
-                            return err(c.span(), format!("`{fname}` takes one argument"));
+                            return err(Sp::of(&c), format!("`{fname}` takes one argument"));
                         }
-                        let k = harmonic(&c.args[0], c.span(), &show(e))?;
-                        self.forcing(&fname, k, c.span())
+                        let k = harmonic(&c.args[0], Sp::of(&c), &show(e))?;
+                        self.forcing(&fname, k, Sp::of(&c))
                     }
                     _ => err(
-                        f.span(),
+                        Sp::of(&f),
                         format!(
                             "unknown function `{fname}`: the only functions are `D(e, n)`, \
                              `cos(k * omega * t)` and `sin(k * omega * t)`"
@@ -707,13 +733,13 @@ impl<'a> Ctx<'a> {
                 }
             }
             other => err(
-                other.span(),
+                Sp::of(&other),
                 format!("`{}` is not allowed in oscillator!: {ALLOWED}", show(other)),
             ),
         }
     }
 
-    fn forcing(&self, name: &str, k: u32, span: Span) -> syn::Result<(Node, Info)> {
+    fn forcing(&self, name: &str, k: u32, span: Sp) -> syn::Result<(Node, Info)> {
         let trig = if name == "cos" { Trig::Cos } else { Trig::Sin };
         Ok((Node::Forcing(trig, k), Info { degree: 0, dof: None, forcing: Some(span), max_k: k }))
     }
@@ -761,7 +787,7 @@ impl<'a> Ctx<'a> {
             BinOp::Div(_) => {
                 if ri.dof.is_some() || ri.forcing.is_some() {
                     return err(
-                        b.right.span(),
+                        Sp::of(&b.right),
                         format!(
                             "division by `{}` is not allowed: divide only by coefficients \
                              (parameters, literals, omega) to keep the model polynomial",
@@ -770,20 +796,20 @@ impl<'a> Ctx<'a> {
                     );
                 }
                 if matches!(*r, Node::Lit(v) if v == 0.0) {
-                    return err(b.right.span(), "division by zero");
+                    return err(Sp::of(&b.right), "division by zero");
                 }
                 Ok((Node::Div(l, r), sum))
             }
             BinOp::BitXor(_) => err(
-                b.op.span(),
+                Sp::of(&b.op),
                 format!(
-                    "`^` is not a power in Rust: write `({}).powi({})`",
-                    show(&b.left),
+                    "`^` is XOR in Rust, not a power (and it binds looser than `+` and `*`): \
+                     write `base.powi(k)`, e.g. `y.powi({})`",
                     show(&b.right)
                 ),
             ),
             _ => err(
-                b.op.span(),
+                Sp::of(&b.op),
                 format!("operator `{}` is not allowed: {ALLOWED}", b.op.to_token_stream()),
             ),
         }
@@ -800,14 +826,14 @@ impl<'a> Ctx<'a> {
                     Name::Alias(i) => self.linear(&self.def.lets[i].expr)?,
                     Name::Param(_) => {
                         return err(
-                            name.span(),
+                            Sp::of(&name),
                             format!("output `{name}` is a parameter: outputs are DOFs or aliases"),
                         )
                     }
                 }
             }
         };
-        let span = expr.map_or(name.span(), |e| e.span());
+        let span = expr.map_or(Sp::of(&name), |e| Sp::of(&e));
         let msg = "outputs must be linear combinations of DOFs with literal coefficients \
                    (their terms are fixed at compile time)";
         if !lin.konst.is_zero() {
@@ -925,7 +951,7 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
         let (r, ri) = cx.value(&eq.rhs)?;
         if li.dof.is_none() && ri.dof.is_none() {
             return err(
-                eq.lhs.span(),
+                Sp::of(&eq.lhs),
                 format!(
                     "equation `{} = {}` does not involve any DOF",
                     show(&eq.lhs),
@@ -948,7 +974,7 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
             for o in list {
                 let name = o.name.to_string();
                 if seen.contains(&name) {
-                    return err(o.name.span(), format!("duplicate output name `{name}`"));
+                    return err(Sp::of(&o.name), format!("duplicate output name `{name}`"));
                 }
                 seen.push(name.clone());
                 outputs.push((name, cx.output(&o.name, o.expr.as_ref())?));
