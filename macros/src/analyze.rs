@@ -114,6 +114,9 @@ impl Lin {
     }
 }
 
+/// DOF terms sharing one non-literal coefficient factor (atoms with powers).
+type Group = (BTreeMap<Atom, i32>, Vec<(usize, f64)>);
+
 /// The derivative order of a signal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum OrderKey {
@@ -574,7 +577,7 @@ impl<'a> Ctx<'a> {
             );
         }
         // Group the DOF terms by their non-literal coefficient factor.
-        let mut groups: Vec<(BTreeMap<Atom, i32>, Vec<(usize, f64)>)> = Vec::new();
+        let mut groups: Vec<Group> = Vec::new();
         for (dof, poly) in &lin.dofs {
             for coef in &poly.0 {
                 match groups.iter_mut().find(|(a, _)| *a == coef.atoms) {
@@ -962,7 +965,7 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
         degree = degree.max(li.degree).max(ri.degree);
         max_k = max_k.max(li.max_k).max(ri.max_k);
         let node = match r {
-            Node::Lit(v) if v == 0.0 => l,
+            Node::Lit(0.0) => l,
             r => Node::Sub(Box::new(l), Box::new(r)),
         };
         equations.push(node);
