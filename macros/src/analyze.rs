@@ -289,8 +289,9 @@ fn harmonic(arg: &Expr, call_span: Sp, call_text: &str) -> syn::Result<u32> {
             format!(
                 "`{call_text}` is not allowed: `cos`/`sin` may only be forcing \
                  `cos(k * omega * t)` / `sin(k * omega * t)` with k a positive integer \
-                 literal (`k *` optional); a trigonometric function of DOFs or parameters \
-                 is not polynomial"
+                 literal (`k *` optional), times coefficients; a trigonometric function of \
+                 DOFs is not polynomial, and a phase shift is written \
+                 `A * cos(omega * t) + B * sin(omega * t)`"
             ),
         )
     };
