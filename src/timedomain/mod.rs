@@ -25,11 +25,13 @@
 //! assert!((z1.max_abs / 0.01 - 2.2973).abs() < 0.01);
 //! ```
 
+pub mod compare;
 pub mod memory;
 pub mod newmark;
 pub mod steady;
 pub mod weights;
 
+pub use compare::{compare, CompareOutput, CompareRow};
 pub use memory::{FastHistory, History, Memory, NaiveHistory};
 pub use newmark::{Stepper, StepperOptions};
 pub use steady::SteadyOutput;
