@@ -85,6 +85,7 @@ use crate::balance::Balance;
 use crate::error::{Error, Result};
 use crate::model::{Model, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::prelude::Solve;
 use faer::{Mat, Par};
 use num_complex::Complex64;
 
@@ -180,7 +181,8 @@ pub struct Hill {
     weight: Vec<f64>,
     /// Projection matrices `P[g_{e,j}]`, row-major len×len, index (e * nsig + j).
     proj: Vec<f64>,
-    grads: Vec<f64>,
+    r: Vec<f64>,
+    jac: Mat<f64>,
     /// `M_0 .. M_degree`.
     coef: Vec<Mat<f64>>,
     companion: Mat<f64>,
@@ -270,7 +272,8 @@ impl Hill {
             phi,
             weight,
             proj: vec![0.0; neq * nsig * len * len],
-            grads: Vec::new(),
+            r: vec![0.0; m],
+            jac: Mat::zeros(m, m),
             coef: (0..=degree).map(|_| Mat::zeros(m, m)).collect(),
             companion: Mat::zeros(big, big),
             lead: Mat::zeros(m, m),
@@ -346,20 +349,23 @@ impl Hill {
     ) -> Result<()> {
         let (len, ns) = (self.len, self.samples);
         let nsig = self.signals.len();
-        bal.signal_gradients(coeffs, omega, &mut self.grads);
-        if self.grads.len() != ns * self.ndof * nsig {
+        if bal.samples() != ns || bal.len() != self.m {
             return Err(Error::Other(format!(
-                "Hill's method: {} signal gradient samples, expected {}",
-                self.grads.len(),
-                ns * self.ndof * nsig
+                "Hill's method: workspace for {} samples and {} unknowns used with a balance of {} and {}",
+                ns,
+                self.m,
+                bal.samples(),
+                bal.len()
             )));
         }
+        bal.jacobian(coeffs, omega, &mut self.r, self.jac.as_mut());
+        let grads = bal.gradients();
         for e in 0..self.ndof {
             for j in 0..nsig {
                 let p = &mut self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
                 p.fill(0.0);
                 for s in 0..ns {
-                    let g = self.grads[(s * self.ndof + e) * nsig + j];
+                    let g = grads[(e * nsig + j) * ns + s];
                     if g == 0.0 {
                         continue;
                     }
@@ -421,6 +427,7 @@ impl Hill {
         use faer::linalg::lu::partial_pivoting::{factor, solve};
         let (m, d) = (self.m, self.degree);
         let big = d * m;
+        let count = self.central_count();
         self.lead.copy_from(&self.coef[d]);
         let scale = self.lead.norm_max();
         let (_, perm) = factor::lu_in_place(
@@ -433,7 +440,6 @@ impl Hill {
         );
         let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
         self.cands.clear();
-        let count = self.central_count();
         if !(min_pivot > 1e-12 * scale) {
             return self.candidates_generalized(omega);
         }

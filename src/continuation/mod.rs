@@ -573,7 +573,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 return SegmentEnd::AmplitudeBound;
             }
             // Step control: corrector effort and tangent turn.
-            let mut factor = match it {
+            let mut factor: f64 = match it {
                 0..=2 => 1.6,
                 3 => 1.25,
                 4 => 1.0,

@@ -12,10 +12,9 @@
 //! reused across steps: the stepping loop does not allocate.
 
 use crate::balance::Balance;
+use crate::linalg::DenseLu;
 use crate::model::Model;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::{factor, solve};
-use faer::{Mat, Par};
+use faer::prelude::ReborrowMut;
 
 /// What is continued.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,21 +37,16 @@ pub(crate) struct Tracer<'m, M: Model> {
     pub max_iter: usize,
     /// Newton iterations, all calls together.
     pub iterations: usize,
-    k: Mat<f64>,
-    rhs: Mat<f64>,
+    lu: DenseLu,
+    rhs: Vec<f64>,
     r: Vec<f64>,
     dl: Vec<f64>,
     a: Vec<f64>,
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
-    mem: MemBuffer,
 }
 
 impl<'m, M: Model> Tracer<'m, M> {
     pub fn new(bal: Balance<'m, M>, axis: Axis, tol: f64, max_iter: usize) -> Self {
         let n = bal.len();
-        let scratch = factor::lu_in_place_scratch::<usize, f64>(n + 1, n + 1, Par::Seq, Default::default())
-            .or(solve::solve_in_place_scratch::<usize, f64>(n + 1, 1, Par::Seq));
         Tracer {
             bal,
             axis,
@@ -63,14 +57,11 @@ impl<'m, M: Model> Tracer<'m, M> {
             tol,
             max_iter,
             iterations: 0,
-            k: Mat::zeros(n + 1, n + 1),
-            rhs: Mat::zeros(n + 1, 1),
+            lu: DenseLu::new(n + 1),
+            rhs: vec![0.0; n + 1],
             r: vec![0.0; n],
             dl: vec![0.0; n],
             a: vec![0.0; n],
-            perm: vec![0; n + 1],
-            perm_inv: vec![0; n + 1],
-            mem: MemBuffer::new(scratch),
         }
     }
 
@@ -102,7 +93,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         }
     }
 
-    /// Unscaled residual norm (max) at zero response: the reference force.
+    /// Residual max-norm at zero response (the forcing): the reference force.
     pub fn reference_force(&mut self, lambda: f64) -> f64 {
         let omega = match self.axis {
             Axis::Omega => lambda,
@@ -130,54 +121,25 @@ impl<'m, M: Model> Tracer<'m, M> {
                 omega
             }
         };
-        self.bal.jacobian(&self.a, omega, &mut self.r, self.k.as_mut().submatrix_mut(0, 0, n, n));
+        let mut k = self.lu.matrix_mut();
+        self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
         match self.axis {
             Axis::Omega => self.bal.d_omega(&self.a, omega, &mut self.dl),
             Axis::Param { index, .. } => self.bal.d_param(&self.a, omega, index, &mut self.dl),
         }
         let (cs, cl) = (self.sa / self.sr, self.sl / self.sr);
         for j in 0..n {
-            for v in self.k.col_as_slice_mut(j)[..n].iter_mut() {
-                *v *= cs;
+            for i in 0..n {
+                k[(i, j)] *= cs;
             }
         }
         for i in 0..n {
-            self.k[(i, n)] = self.dl[i] * cl;
-            self.k[(n, i)] = border[i];
-            self.rhs[(i, 0)] = self.r[i] / self.sr;
+            k[(i, n)] = self.dl[i] * cl;
+            k[(n, i)] = border[i];
+            self.rhs[i] = self.r[i] / self.sr;
         }
-        self.k[(n, n)] = border[n];
-        self.rhs[(n, 0)] = dot(border, y) - target;
-    }
-
-    /// Factor `K` in place; `false` if it is singular or not finite.
-    fn factor(&mut self) -> bool {
-        let n1 = self.n + 1;
-        let (_, _) = factor::lu_in_place(
-            self.k.as_mut(),
-            &mut self.perm,
-            &mut self.perm_inv,
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-            Default::default(),
-        );
-        (0..n1).all(|i| {
-            let d = self.k[(i, i)];
-            d.is_finite() && d != 0.0
-        })
-    }
-
-    fn solve_rhs(&mut self) {
-        // The permutation arrays were filled by `factor`.
-        let perm = faer::perm::PermRef::new_checked(&self.perm, &self.perm_inv, self.n + 1);
-        solve::solve_in_place(
-            self.k.as_ref(),
-            self.k.as_ref(),
-            perm,
-            self.rhs.as_mut(),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-        );
+        k[(n, n)] = border[n];
+        self.rhs[n] = dot(border, y) - target;
     }
 
     /// One bordered Newton step at `y` (updated in place); the max-norm of the step.
@@ -185,17 +147,17 @@ impl<'m, M: Model> Tracer<'m, M> {
         let n = self.n;
         self.iterations += 1;
         self.assemble(y, border, target);
-        let res = (0..n).fold(0.0f64, |m, i| m.max(self.rhs[(i, 0)].abs()));
+        let res = self.rhs[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !res.is_finite() {
             return Err(format!("non-finite residual at Ω = {:.6}", self.omega(y)));
         }
-        if !self.factor() {
+        let pivots = self.lu.factor();
+        if !(pivots > 1e-15) {
             return Err(format!("singular bordered Jacobian at Ω = {:.6}", self.omega(y)));
         }
-        self.solve_rhs();
+        self.lu.solve(&mut self.rhs);
         let mut dn = 0.0f64;
-        for (i, yi) in y.iter_mut().enumerate().take(n + 1) {
-            let d = self.rhs[(i, 0)];
+        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
             *yi -= d;
             dn = dn.max(d.abs());
         }
@@ -228,14 +190,12 @@ impl<'m, M: Model> Tracer<'m, M> {
     /// The unit tangent from the LU of the last `correct` (oriented along its border).
     pub fn tangent(&mut self, t: &mut [f64]) {
         let n = self.n;
-        for i in 0..n {
-            self.rhs[(i, 0)] = 0.0;
-        }
-        self.rhs[(n, 0)] = 1.0;
-        self.solve_rhs();
-        let norm = (0..=n).map(|i| self.rhs[(i, 0)].powi(2)).sum::<f64>().sqrt();
-        for (i, ti) in t.iter_mut().enumerate() {
-            *ti = self.rhs[(i, 0)] / norm;
+        self.rhs.fill(0.0);
+        self.rhs[n] = 1.0;
+        self.lu.solve(&mut self.rhs);
+        let norm = dot(&self.rhs, &self.rhs).sqrt();
+        for (ti, &v) in t.iter_mut().zip(&self.rhs) {
+            *ti = v / norm;
         }
     }
 }
