@@ -482,7 +482,7 @@ impl Hill {
         for i in 0..big {
             self.cands.push(Complex64::new(self.s_re[i], self.s_im[i]));
         }
-        select_central(&mut self.cands, count);
+        select_central(&mut self.cands, count, omega);
         Ok(())
     }
 
@@ -521,7 +521,7 @@ impl Hill {
             }
         }
         let count = (self.cands.len() / self.len).max(1).min(self.cands.len());
-        select_central(&mut self.cands, count);
+        select_central(&mut self.cands, count, omega);
         Ok(())
     }
 
@@ -638,10 +638,34 @@ fn fold_into_strip(l: Complex64, omega: f64) -> Complex64 {
     Complex64::new(l.re, l.im - shift * omega)
 }
 
-/// Keep the `count` values with the smallest |Im| (ties: larger real part first).
-fn select_central(c: &mut Vec<Complex64>, count: usize) {
-    c.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(b.re.total_cmp(&a.re)));
-    c.truncate(count);
+/// Keep `count` values with the smallest |Im|, one per exponent: values equal modulo
+/// `iΩ` are the same Floquet exponent (at `|Im λ| = Ω/2`, period doubling, `λ` and
+/// `conj λ = λ - iΩ` both appear), and among near-equal |Im| the larger real part
+/// comes first so that a growing exponent is never the one left out.
+fn select_central(c: &mut Vec<Complex64>, count: usize, omega: f64) {
+    let tie = 1e-6 * omega;
+    c.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()));
+    let mut start = 0;
+    while start < c.len() {
+        let base = c[start].im.abs();
+        let end = start + c[start..].iter().take_while(|z| z.im.abs() - base <= tie).count();
+        c[start..end].sort_by(|a, b| b.re.total_cmp(&a.re));
+        start = end;
+    }
+    let mut kept: Vec<Complex64> = Vec::with_capacity(count);
+    for &z in c.iter() {
+        if kept.len() == count {
+            break;
+        }
+        let same = kept.iter().any(|k| {
+            let d = (z.im - k.im).rem_euclid(omega);
+            (z.re - k.re).abs() <= tie && (d <= tie || omega - d <= tie)
+        });
+        if !same {
+            kept.push(z);
+        }
+    }
+    *c = kept;
 }
 
 fn binomial(n: usize, r: usize) -> f64 {

@@ -170,7 +170,7 @@ fn hill_exponents_match_monodromy_multipliers() {
     let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
     let mut bal = Balance::new(&MODEL, 6).unwrap();
     let mut hill = Hill::new(&MODEL, 6).unwrap();
-    for p in curve.points.iter().step_by(3) {
+    for p in &curve.points {
         let f = hill.analyse(&mut bal, &p.coeffs, p.omega, &StabilityOptions::default()).unwrap();
         let g = growth(p.omega);
         assert!((f.max_real - g).abs() < 1e-7, "Ω = {}: Hill {} vs monodromy {g}", p.omega, f.max_real);

@@ -103,7 +103,8 @@ pub struct SweepOptions {
     pub initial_step: f64,
     /// Smallest step before a segment is declared stalled.
     pub min_step: f64,
-    /// Largest step.
+    /// Largest step (scaled by the response where it exceeds the reference amplitude,
+    /// so that a branch climbing an asymptote is followed in relative steps).
     pub max_step: f64,
     /// Largest turn of the tangent per step, radians (steps shrink to respect it).
     pub max_turn: f64,
@@ -582,7 +583,10 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             if angle > 0.0 {
                 factor = factor.min(opts.max_turn / angle);
             }
-            h = (h * factor.clamp(0.25, 2.0)).clamp(opts.min_step, opts.max_step);
+            // Far above the reference amplitude (a branch climbing an asymptote) the
+            // natural step is relative: let the largest step grow with the response.
+            let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            h = (h * factor.clamp(0.25, 2.0)).clamp(opts.min_step, opts.max_step * amp);
         }
     }
 }
