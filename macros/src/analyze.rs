@@ -995,3 +995,52 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
     compact(&mut a);
     Ok(a)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn analyze_str(src: &str) -> syn::Result<Analysis> {
+        let def: ModelDef = syn::parse_str(src)?;
+        analyze(&def)
+    }
+
+    #[test]
+    fn literal_factors_and_parameter_coefficients_split_signals() {
+        let a = analyze_str(
+            "struct S { params { a = 1.0, p = 0.5 } dofs { x, y }
+               equations {
+                 D(x, 2) + D(2.0 * x - 2.0 * y, p) + D(x - y, p) + D(a * x + y, 1) = 0.0;
+                 D(y, 2) + x.powi(2) * y = cos(3 * omega * t);
+               } }",
+        )
+        .unwrap();
+        let keys: Vec<(Vec<(usize, f64)>, OrderKey)> =
+            a.signals.iter().map(|s| (s.terms.clone(), s.order)).collect();
+        // D(2x - 2y, p) and D(x - y, p) share one signal; D(a x + y, 1) = a Dx + Dy.
+        assert_eq!(
+            keys,
+            vec![
+                (vec![(0, 1.0)], OrderKey::Int(2)),
+                (vec![(0, 1.0), (1, -1.0)], OrderKey::Param(1)),
+                (vec![(0, 1.0)], OrderKey::Int(1)),
+                (vec![(1, 1.0)], OrderKey::Int(1)),
+                (vec![(1, 1.0)], OrderKey::Int(2)),
+                (vec![(0, 1.0)], OrderKey::Int(0)),
+                (vec![(1, 1.0)], OrderKey::Int(0)),
+            ]
+        );
+        assert_eq!((a.degree, a.max_k), (3, 3));
+    }
+
+    #[test]
+    fn unused_aliases_add_no_signals() {
+        let a = analyze_str(
+            "struct S { params { k = 1.0 } dofs { x } let v = D(x, 1);
+               equations { D(x, 2) + k * x = cos(omega * t); } }",
+        )
+        .unwrap();
+        assert_eq!(a.signals.len(), 2);
+        assert!(!a.aliases[0].2);
+    }
+}

@@ -1,8 +1,8 @@
 //! The `oscillator!` proc-macro of ihbm: a model declared as equations becomes a struct
 //! implementing `ihbm::model::Model`, with every symbolic check done at compile time.
 //!
-//! Pipeline: [`parse`] (surface syntax) → [`analyze`] (names, aliases, polynomial and
-//! forcing checks, signals) → [`codegen`] (struct, `Default`, `Model` impl). See the
+//! Pipeline: `parse` (surface syntax) → `analyze` (names, aliases, polynomial and
+//! forcing checks, signals) → `codegen` (struct, `Default`, `Model` impl). See the
 //! `ihbm` crate documentation for the language itself.
 
 mod analyze;
