@@ -8,8 +8,9 @@
 //! Runs the sweep `repeats` times in two configurations and prints one JSON line each:
 //! `"ihbm"` without stability (the work the Python peers do: points of the curve, no
 //! Floquet/Hill analysis) and `"ihbm+stability"` with Hill's method at every point (the
-//! default of `ihbm sweep`). The time is the median wall time of one whole curve
-//! (`continuation::sweep`: continuation, fold location and jumps), not process start.
+//! default of `ihbm sweep`). `seconds_per_curve` is the median wall time of one whole
+//! curve (`continuation::sweep`: continuation, fold location and jumps; not process
+//! start), `best_seconds_per_curve` the fastest of the repeats.
 //! The line also carries the point count, the peak amplitudes and the folds, so the
 //! script can check that every tool computed the same curve.
 
@@ -39,7 +40,11 @@ fn parse_args() -> Result<Args, String> {
             "--from" => args.from = value.parse().map_err(|_| bad("a frequency in rad/s"))?,
             "--to" => args.to = value.parse().map_err(|_| bad("a frequency in rad/s"))?,
             "--repeats" => args.repeats = value.parse().map_err(|_| bad("a count >= 1"))?,
-            _ => return Err(format!("unknown option {flag:?} (use --harmonics, --from, --to, --repeats)")),
+            _ => {
+                return Err(format!(
+                    "unknown option {flag:?} (use --harmonics, --from, --to, --repeats)"
+                ))
+            }
         }
     }
     if args.harmonics == 0 || args.repeats == 0 {
@@ -48,8 +53,9 @@ fn parse_args() -> Result<Args, String> {
     Ok(args)
 }
 
-/// Times `repeats` sweeps; returns the last curve and the median seconds per curve.
-fn timed(model: &Duffing, args: &Args, opts: &SweepOptions) -> ihbm::Result<(Curve, f64)> {
+/// Times `repeats` sweeps; returns the last curve and the median and the best seconds
+/// per curve.
+fn timed(model: &Duffing, args: &Args, opts: &SweepOptions) -> ihbm::Result<(Curve, f64, f64)> {
     let mut times = Vec::with_capacity(args.repeats);
     let mut curve = sweep(model, args.from, args.to, opts)?; // warm-up (page faults, caches)
     for _ in 0..args.repeats {
@@ -58,10 +64,10 @@ fn timed(model: &Duffing, args: &Args, opts: &SweepOptions) -> ihbm::Result<(Cur
         times.push(start.elapsed().as_secs_f64());
     }
     times.sort_by(f64::total_cmp);
-    Ok((curve, times[times.len() / 2]))
+    Ok((curve, times[times.len() / 2], times[0]))
 }
 
-fn json_line(tool: &str, args: &Args, samples: usize, curve: &Curve, seconds: f64) -> String {
+fn json_line(tool: &str, args: &Args, samples: usize, curve: &Curve, times: (f64, f64)) -> String {
     let peak = |f: fn(&ihbm::results::PointOutput) -> f64| {
         curve.points.iter().map(|p| f(&p.outputs[0])).fold(0.0, f64::max)
     };
@@ -70,7 +76,7 @@ fn json_line(tool: &str, args: &Args, samples: usize, curve: &Curve, seconds: f6
     format!(
         "{{\"tool\":\"{tool}\",\"version\":\"{}\",\"harmonics\":{},\"samples\":{samples},\
          \"from\":{},\"to\":{},\"points\":{},\"steps\":{},\"newton_iterations\":{},\
-         \"seconds_per_curve\":{seconds:.9e},\"repeats\":{},\"peak_max_abs\":{:.6},\
+         \"seconds_per_curve\":{:.9e},\"best_seconds_per_curve\":{:.9e},\"repeats\":{},\"peak_max_abs\":{:.6},\
          \"peak_amp1\":{:.6},\"folds\":[{}],\"segments\":[{}]}}",
         env!("CARGO_PKG_VERSION"),
         args.harmonics,
@@ -79,6 +85,8 @@ fn json_line(tool: &str, args: &Args, samples: usize, curve: &Curve, seconds: f6
         curve.points.len(),
         curve.stats.steps,
         curve.stats.corrector_iterations,
+        times.0,
+        times.1,
         args.repeats,
         peak(|o| o.max_abs),
         peak(|o| o.amp1),
@@ -94,8 +102,8 @@ fn run() -> Result<(), String> {
     let plain = SweepOptions { harmonics: args.harmonics, stability: None, ..Default::default() };
     let with_stability = SweepOptions { harmonics: args.harmonics, ..Default::default() };
     for (tool, opts) in [("ihbm", &plain), ("ihbm+stability", &with_stability)] {
-        let (curve, seconds) = timed(&model, &args, opts).map_err(|e| e.to_string())?;
-        println!("{}", json_line(tool, &args, samples, &curve, seconds));
+        let (curve, median, best) = timed(&model, &args, opts).map_err(|e| e.to_string())?;
+        println!("{}", json_line(tool, &args, samples, &curve, (median, best)));
     }
     Ok(())
 }

@@ -154,7 +154,7 @@ def main():
         best = min(best, seconds)
     out = {"tool": a.tool, "version": version(DISTRIBUTIONS[a.tool]), "harmonics": a.harmonics,
            "samples": a.samples if a.tool == "pyharm-os" else 4 * a.harmonics + 1,
-           "points": len(points), "step": step, "seconds_per_curve": best,
+           "points": len(points), "step": step, "best_seconds_per_curve": best,
            "repeats": a.repeats, **summary(points, a.harmonics), **extra}
     print(json.dumps(out))
 

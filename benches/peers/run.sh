@@ -56,6 +56,10 @@ if [[ -z "$points" || -z "$samples" ]]; then
 fi
 
 # --- Python peers ------------------------------------------------------------------
+if ! command -v python3 >/dev/null; then
+    echo "SKIPPED all peers: python3 not found (ihbm's own results are above)"
+    exit 0
+fi
 outputs=("$tmp/ihbm.jsonl")
 skip() { # skip TOOL REASON: record a skipped peer
     printf '{"tool": "%s", "error": "%s"}\n' "$1" "$2" >"$tmp/skip-$1.jsonl"
@@ -78,8 +82,9 @@ else
             continue
         fi
         say "$tool: the same sweep, $points points to match ihbm, best of $peer_repeats"
-        if "$py" "$here/peers.py" "$tool" --harmonics "$harmonics" --from "$from" --to "$to" \
-                --points "$points" --samples "$samples" --repeats "$peer_repeats" \
+        # From inside the temp dir: pyHarm writes a .pyHarm/ state folder into the cwd.
+        if (cd "$tmp" && "$py" "$here/peers.py" "$tool" --harmonics "$harmonics" --from "$from" --to "$to" \
+                --points "$points" --samples "$samples" --repeats "$peer_repeats") \
                 >"$tmp/$tool.jsonl" 2>"$tmp/$tool.err"; then
             cat "$tmp/$tool.jsonl"
             outputs+=("$tmp/$tool.jsonl")
