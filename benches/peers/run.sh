@@ -38,7 +38,7 @@ trap cleanup EXIT
 
 # --- ihbm (its failure is the only hard failure) -----------------------------------
 say "ihbm: cargo run --release --example peer_duffing (N=$harmonics, W $from -> $to, $ihbm_repeats repeats)"
-if ! (cd "$root" && cargo run --quiet --release --example peer_duffing -- \
+if ! (cd "$root" && cargo run --release --example peer_duffing -- \
         --harmonics "$harmonics" --from "$from" --to "$to" --repeats "$ihbm_repeats") \
         >"$tmp/ihbm.jsonl"; then
     echo "ERROR: ihbm's sweep failed (see the messages above)" >&2
