@@ -43,6 +43,18 @@ def fmt_time(s):
     return f"{s * 1e3:10.3f} ms" if s >= 1e-3 else f"{s * 1e6:10.1f} us"
 
 
+def table(columns, rows):
+    """Print rows under (title, width) columns; a negative width aligns left."""
+    def line(cells):
+        return " ".join(f"{str(c):<{-w}}" if w < 0 else f"{str(c):>{w}}"
+                        for c, (_, w) in zip(cells, columns))
+    head = line([t for t, _ in columns])
+    print(head)
+    print("-" * len(head))
+    for cells in rows:
+        print(line(cells))
+
+
 def main():
     out_path, paths = sys.argv[1], sys.argv[2:]
     rows = read(paths)
@@ -66,16 +78,15 @@ def main():
     print("Duffing x'' + 0.1 x' + x + x^3 = 0.5 cos(W t), "
           f"W {ihbm['from']} -> {ihbm['to']}, N = {ihbm['harmonics']}")
     print()
-    head = f"{'tool':<16} {'version':<8} {'N':>3} {'points':>6} {'time/curve':>13} " \
-           f"{'(median)':>13} {'time/point':>13} {'ratio to ihbm':>14}"
-    print(head)
-    print("-" * len(head))
-    for r in ok:
+    def timing(r):
         ratio = f"{r['ratio_to_ihbm']:13.1f}x" if r["same_curve"] else "  n/a (curve)"
         median = fmt_time(r["seconds_per_curve"]) if "seconds_per_curve" in r else "-"
-        print(f"{r['tool']:<16} {r['version']:<8} {r['harmonics']:>3} {r['points']:>6} "
-              f"{fmt_time(r['best_seconds_per_curve']):>13} {median:>13} "
-              f"{fmt_time(r['best_seconds_per_point']):>13} {ratio:>14}")
+        return [r["tool"], r["version"], r["harmonics"], r["points"],
+                fmt_time(r["best_seconds_per_curve"]), median,
+                fmt_time(r["best_seconds_per_point"]), ratio]
+
+    table([("tool", -16), ("version", -8), ("N", 3), ("points", 6), ("time/curve", 13),
+           ("(median)", 13), ("time/point", 13), ("ratio to ihbm", 14)], map(timing, ok))
     for r in failed:
         print(f"{r['tool']:<16} skipped: {r['error']}")
 
@@ -84,15 +95,14 @@ def main():
     print("upper fold (where the curve turns back; ihbm locates it exactly, the peers to")
     print(f"their point spacing). One-harmonic closed form: peak a1 = {ref_a:.4f} at W = {ref_omega:.4f}.")
     print()
-    head = f"{'tool':<16} {'peak max|x|':>12} {'peak a1':>9} {'a1 vs N=1 ref':>14} " \
-           f"{'upper fold W':>13} {'vs ihbm':>8}"
-    print(head)
-    print("-" * len(head))
-    for r in ok:
-        fold = f"{r['upper_fold']:13.4f}" if r["upper_fold"] else f"{'-':>13}"
-        print(f"{r['tool']:<16} {r['peak_max_abs']:12.4f} {r['peak_amp1']:9.4f} "
-              f"{100 * (r['peak_amp1'] / ref_a - 1):+13.2f}% {fold} "
-              f"{100 * (r['peak_max_abs'] / ihbm['peak_max_abs'] - 1):+7.2f}%")
+    def check(r):
+        return [r["tool"], f"{r['peak_max_abs']:.4f}", f"{r['peak_amp1']:.4f}",
+                f"{100 * (r['peak_amp1'] / ref_a - 1):+.2f}%",
+                f"{r['upper_fold']:.4f}" if r["upper_fold"] else "-",
+                f"{100 * (r['peak_max_abs'] / ihbm['peak_max_abs'] - 1):+.2f}%"]
+
+    table([("tool", -16), ("peak max|x|", 12), ("peak a1", 9), ("a1 vs N=1 ref", 14),
+           ("upper fold W", 13), ("vs ihbm", 8)], map(check, ok))
     bad = [r["tool"] for r in ok if not r["same_curve"]]
     if bad:
         print(f"\nWARNING: {', '.join(bad)} computed a different curve (peak off by more than "
