@@ -364,8 +364,16 @@ impl Hill {
             for j in 0..nsig {
                 let p = &mut self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
                 p.fill(0.0);
+                let g = &grads[(e * nsig + j) * ns..][..ns];
+                if g.iter().all(|&x| x == g[0]) {
+                    // A linear term: multiplication by a constant projects to g0·I.
+                    for l in 0..len {
+                        p[l * len + l] = g[0];
+                    }
+                    continue;
+                }
                 for s in 0..ns {
-                    let g = grads[(e * nsig + j) * ns + s];
+                    let g = g[s];
                     if g == 0.0 {
                         continue;
                     }
