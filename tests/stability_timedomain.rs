@@ -124,3 +124,36 @@ fn quarter_car_from_rest_settles_on_a_stable_branch() {
     assert!(rel(nearest.0) < 2e-2, "{z1} vs {branches:?}");
     assert!(rel(branches[1].0) > 0.1, "{z1} vs {branches:?}");
 }
+
+/// Road amplitude 10 cm, k3 = 5000 kN/m: above the wheel-hop region a complex pair of
+/// Floquet exponents (Im λ ≈ 17 rad/s, the body mode) crosses into Re λ > 0 between
+/// about 57 and 62 rad/s without any fold: a torus (Neimark–Sacker) bubble. Time
+/// integration from rest agrees: outside the bubble it settles on the harmonic
+/// balance solution, inside it does not.
+#[test]
+fn quarter_car_torus_bubble_is_confirmed_in_time() {
+    let mut car = QuarterCar::default();
+    car.F = 0.1;
+    car.k3 = 5e6;
+    let curve = sweep(&car, 40.0, 80.0, &SweepOptions::default()).unwrap();
+    assert!(curve.folds.is_empty());
+    let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
+    assert_eq!(kinds, [ihbm::results::BifurcationKind::Torus; 2]);
+    let (a, b) = (curve.bifurcations[0].omega, curve.bifurcations[1].omega);
+    assert!(a > 50.0 && b < 70.0 && a < b);
+    let hb = |w: f64| {
+        let win = curve.points.windows(2).find(|w2| (w2[0].omega - w) * (w2[1].omega - w) <= 0.0).unwrap();
+        let t = (w - win[0].omega) / (win[1].omega - win[0].omega);
+        win[0].outputs[0].max_abs + t * (win[1].outputs[0].max_abs - win[0].outputs[0].max_abs)
+    };
+    // Near the bubble the decay is slow (Re λ small): compare well outside it.
+    for (w, inside) in [(a - 5.0, false), (0.5 * (a + b), true), (b + 8.0, false)] {
+        let sim = simulate(&car, w, &SimOptions { periods: 600, ..Default::default() }).unwrap();
+        let rel = (sim.outputs[0].max_abs - hb(w)).abs() / hb(w);
+        if inside {
+            assert!(rel > 0.2, "Ω = {w}: time response {} on the unstable HB branch {}", sim.outputs[0].max_abs, hb(w));
+        } else {
+            assert!(rel < 5e-3, "Ω = {w}: time response {} vs HB {}", sim.outputs[0].max_abs, hb(w));
+        }
+    }
+}
