@@ -210,11 +210,8 @@ impl Hill {
         let ndof = model.dofs().len();
         let len = 2 * harmonics + 1;
         let m = ndof * len;
-        let samples = crate::fourier::sample_count(
-            model.degree(),
-            harmonics,
-            model.max_forcing_harmonic(),
-        );
+        let samples =
+            crate::fourier::sample_count(model.degree(), harmonics, model.max_forcing_harmonic());
         let mut degree = 0usize;
         let mut fractional = false;
         let signals: Vec<_> = model
@@ -244,24 +241,24 @@ impl Hill {
         let neq = ndof;
         let nsig = signals.len();
         let big = degree * m;
-        let scratch = faer::linalg::evd::evd_scratch::<f64>(
-            big,
-            faer::linalg::evd::ComputeEigenvectors::No,
-            faer::linalg::evd::ComputeEigenvectors::No,
-            Par::Seq,
-            Default::default(),
-        )
-        .or(faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(
-            m,
-            m,
-            Par::Seq,
-            Default::default(),
-        ))
-        .or(faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<usize, f64>(
-            m,
-            big,
-            Par::Seq,
-        ));
+        let scratch =
+            faer::linalg::evd::evd_scratch::<f64>(
+                big,
+                faer::linalg::evd::ComputeEigenvectors::No,
+                faer::linalg::evd::ComputeEigenvectors::No,
+                Par::Seq,
+                Default::default(),
+            )
+            .or(faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(
+                m,
+                m,
+                Par::Seq,
+                Default::default(),
+            ))
+            .or(faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<
+                usize,
+                f64,
+            >(m, big, Par::Seq));
         Ok(Hill {
             ndof,
             harmonics,
@@ -337,7 +334,7 @@ impl Hill {
         }
         exps.sort_by(|a, b| b.re.total_cmp(&a.re));
         let max_real = exps.first().map_or(f64::NEG_INFINITY, |l| l.re);
-        Ok(Floquet { stable: !(max_real > opts.tol * omega), max_real, exponents: exps, refined })
+        Ok(Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined })
     }
 
     /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution.
@@ -423,7 +420,17 @@ impl Hill {
                 for e in 0..self.ndof {
                     let p = &self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
                     for &(d, c) in terms {
-                        add_product(&mut self.coef[r], e * len, d * len, c, p, len, nh, &alpha, &beta);
+                        add_product(
+                            &mut self.coef[r],
+                            e * len,
+                            d * len,
+                            c,
+                            p,
+                            len,
+                            nh,
+                            &alpha,
+                            &beta,
+                        );
                     }
                 }
             }
@@ -448,7 +455,7 @@ impl Hill {
         );
         let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
         self.cands.clear();
-        if !(min_pivot > 1e-12 * scale) {
+        if min_pivot.is_nan() || min_pivot <= 1e-12 * scale {
             return self.candidates_generalized(omega);
         }
         // Companion: [[0, I, ...], ..., [-L⁻¹M_0, ..., -L⁻¹M_{d-1}]].
@@ -486,7 +493,9 @@ impl Hill {
             MemStack::new(&mut self.mem),
             Default::default(),
         )
-        .map_err(|e| Error::Other(format!("Hill's method: eigenvalues failed at Ω = {omega}: {e:?}")))?;
+        .map_err(|e| {
+            Error::Other(format!("Hill's method: eigenvalues failed at Ω = {omega}: {e:?}"))
+        })?;
         for i in 0..big {
             self.cands.push(Complex64::new(self.s_re[i], self.s_im[i]));
         }
@@ -519,7 +528,9 @@ impl Hill {
             }
         }
         let ge = a.generalized_eigen(&b).map_err(|e| {
-            Error::Other(format!("Hill's method: generalized eigenvalues failed at Ω = {omega}: {e:?}"))
+            Error::Other(format!(
+                "Hill's method: generalized eigenvalues failed at Ω = {omega}: {e:?}"
+            ))
         })?;
         let (sa, sb) = (ge.S_a(), ge.S_b());
         for i in 0..big {
@@ -587,7 +598,13 @@ impl Hill {
     }
 
     /// Nonlinear inverse iteration from the candidate `l0`; `None` if it fails.
-    fn refine(&self, params: &[f64], omega: f64, l0: Complex64, max_iter: usize) -> Option<Complex64> {
+    fn refine(
+        &self,
+        params: &[f64],
+        omega: f64,
+        l0: Complex64,
+        max_iter: usize,
+    ) -> Option<Complex64> {
         let m = self.m;
         let zero = Complex64::new(0.0, 0.0);
         let mut t = Mat::<Complex64>::zeros(m, m);
@@ -596,11 +613,13 @@ impl Hill {
         // Start vector: one step of inverse iteration at the candidate.
         self.assemble_full(params, omega, lambda, &mut t, &mut dt);
         let lu = t.partial_piv_lu();
-        let b = Mat::<Complex64>::from_fn(m, 1, |i, _| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0));
+        let b = Mat::<Complex64>::from_fn(m, 1, |i, _| {
+            Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)
+        });
         let mut v = lu.solve(&b);
         let u = v.clone();
         let norm = dot(&u, &v);
-        if !(norm.norm() > 0.0) || !norm.re.is_finite() {
+        if norm.norm() == 0.0 || !norm.re.is_finite() || !norm.im.is_finite() {
             return None;
         }
         for i in 0..m {
@@ -612,7 +631,7 @@ impl Hill {
             let rhs = &dt * &v;
             let x = t.partial_piv_lu().solve(&rhs);
             let ux = dot(&u, &x);
-            if !(ux.norm() > 0.0) || !ux.re.is_finite() {
+            if ux.norm() == 0.0 || !ux.re.is_finite() || !ux.im.is_finite() {
                 return None;
             }
             let uv = dot(&u, &v);

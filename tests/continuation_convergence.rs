@@ -16,8 +16,11 @@ fn harmonic_convergence_estimate_bounds_the_error() {
     assert_eq!(ns[..3], [1, 3, 5]);
     assert_eq!(curve.harmonics, *ns.last().unwrap());
     // Independent reference: a run with many more harmonics.
-    let reference = sweep(&model, 0.5, 2.5, &SweepOptions { harmonics: 21, ..Default::default() }).unwrap();
-    let peak = |c: &ihbm::results::Curve| c.points.iter().map(|p| p.outputs[0].max_abs).fold(0.0, f64::max);
+    let reference =
+        sweep(&model, 0.5, 2.5, &SweepOptions { harmonics: 21, ..Default::default() }).unwrap();
+    let peak = |c: &ihbm::results::Curve| {
+        c.points.iter().map(|p| p.outputs[0].max_abs).fold(0.0, f64::max)
+    };
     let err_peak = (peak(&curve) - peak(&reference)).abs() / peak(&reference);
     // The peak of a traced polyline is a sampled maximum; compare the folds instead
     // (located exactly), and the peak only to the sampling accuracy.
@@ -25,7 +28,13 @@ fn harmonic_convergence_estimate_bounds_the_error() {
     assert_eq!(curve.folds.len(), reference.folds.len());
     for (a, b) in curve.folds.iter().zip(&reference.folds) {
         let e = (a.omega - b.omega).abs() / b.omega;
-        assert!(e <= report.estimate.max(1e-12) * 10.0, "fold {} vs {}: {e:.2e} > estimate {:.2e}", a.omega, b.omega, report.estimate);
+        assert!(
+            e <= report.estimate.max(1e-12) * 10.0,
+            "fold {} vs {}: {e:.2e} > estimate {:.2e}",
+            a.omega,
+            b.omega,
+            report.estimate
+        );
     }
     // The change shrinks from level to level (spectral convergence).
     let changes: Vec<f64> = report.levels.iter().skip(1).map(|l| l.change).collect();

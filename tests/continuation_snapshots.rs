@@ -55,18 +55,14 @@ fn quarter_car_table_1_reference_curve() {
 
 #[test]
 fn quarter_car_multivalued_reference_curve() {
-    let mut car = QuarterCar::default();
-    car.F = 0.03;
-    car.k3 = 5e6;
+    let car = QuarterCar { F: 0.03, k3: 5e6, ..Default::default() };
     let c = sweep(&car, 1.0, 100.0, &SweepOptions::default()).unwrap();
     insta::assert_json_snapshot!(summary(&c));
 }
 
 #[test]
 fn quarter_car_runaway_reference_curve() {
-    let mut car = QuarterCar::default();
-    car.F = 0.05;
-    car.k3 = 5e6;
+    let car = QuarterCar { F: 0.05, k3: 5e6, ..Default::default() };
     let c = sweep(&car, 1.0, 100.0, &SweepOptions::default()).unwrap();
     insta::assert_json_snapshot!(summary(&c));
 }

@@ -71,7 +71,9 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
     let is = (0..curve.folds[0].after)
         .filter(|&i| curve.points[i].stable)
         .min_by(|&a, &b| {
-            (curve.points[a].omega - u.omega).abs().total_cmp(&(curve.points[b].omega - u.omega).abs())
+            (curve.points[a].omega - u.omega)
+                .abs()
+                .total_cmp(&(curve.points[b].omega - u.omega).abs())
         })
         .unwrap();
     let s = &curve.points[is];
@@ -86,7 +88,11 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
         let dist = |y: &[f64; 2]| (y[0] - y0[0]).hypot((y[1] - y0[1]) / p.omega);
         let end = dist(traj.last().unwrap());
         if unstable {
-            assert!(end > 1e3 * delta, "Ω = {}: perturbation {delta:.1e} only grew to {end:.1e}", p.omega);
+            assert!(
+                end > 1e3 * delta,
+                "Ω = {}: perturbation {delta:.1e} only grew to {end:.1e}",
+                p.omega
+            );
         } else {
             let first = dist(&traj[0]);
             assert!(end < 0.1 * first.max(delta), "Ω = {}: {first:.1e} -> {end:.1e}", p.omega);
@@ -96,9 +102,7 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
 
 #[test]
 fn quarter_car_from_rest_settles_on_a_stable_branch() {
-    let mut car = QuarterCar::default();
-    car.F = 0.03;
-    car.k3 = 5e6;
+    let car = QuarterCar { F: 0.03, k3: 5e6, ..Default::default() };
     let curve = sweep(&car, 1.0, 100.0, &SweepOptions::default()).unwrap();
     assert_eq!(curve.folds.len(), 2);
     let omega = 0.5 * (curve.folds[0].omega + curve.folds[1].omega);
@@ -106,7 +110,9 @@ fn quarter_car_from_rest_settles_on_a_stable_branch() {
     let mut branches: Vec<(f64, bool)> = curve
         .points
         .windows(2)
-        .filter(|w| (w[0].omega - omega) * (w[1].omega - omega) <= 0.0 && w[0].stable == w[1].stable)
+        .filter(|w| {
+            (w[0].omega - omega) * (w[1].omega - omega) <= 0.0 && w[0].stable == w[1].stable
+        })
         .map(|w| {
             let t = (omega - w[0].omega) / (w[1].omega - w[0].omega);
             let a = w[0].outputs[0].max_abs;
@@ -132,9 +138,7 @@ fn quarter_car_from_rest_settles_on_a_stable_branch() {
 /// balance solution, inside it does not.
 #[test]
 fn quarter_car_torus_bubble_is_confirmed_in_time() {
-    let mut car = QuarterCar::default();
-    car.F = 0.1;
-    car.k3 = 5e6;
+    let car = QuarterCar { F: 0.1, k3: 5e6, ..Default::default() };
     let curve = sweep(&car, 40.0, 80.0, &SweepOptions::default()).unwrap();
     assert!(curve.folds.is_empty());
     let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
@@ -142,7 +146,11 @@ fn quarter_car_torus_bubble_is_confirmed_in_time() {
     let (a, b) = (curve.bifurcations[0].omega, curve.bifurcations[1].omega);
     assert!(a > 50.0 && b < 70.0 && a < b);
     let hb = |w: f64| {
-        let win = curve.points.windows(2).find(|w2| (w2[0].omega - w) * (w2[1].omega - w) <= 0.0).unwrap();
+        let win = curve
+            .points
+            .windows(2)
+            .find(|w2| (w2[0].omega - w) * (w2[1].omega - w) <= 0.0)
+            .unwrap();
         let t = (w - win[0].omega) / (win[1].omega - win[0].omega);
         win[0].outputs[0].max_abs + t * (win[1].outputs[0].max_abs - win[0].outputs[0].max_abs)
     };
@@ -151,9 +159,19 @@ fn quarter_car_torus_bubble_is_confirmed_in_time() {
         let sim = simulate(&car, w, &SimOptions { periods: 600, ..Default::default() }).unwrap();
         let rel = (sim.outputs[0].max_abs - hb(w)).abs() / hb(w);
         if inside {
-            assert!(rel > 0.2, "Ω = {w}: time response {} on the unstable HB branch {}", sim.outputs[0].max_abs, hb(w));
+            assert!(
+                rel > 0.2,
+                "Ω = {w}: time response {} on the unstable HB branch {}",
+                sim.outputs[0].max_abs,
+                hb(w)
+            );
         } else {
-            assert!(rel < 5e-3, "Ω = {w}: time response {} vs HB {}", sim.outputs[0].max_abs, hb(w));
+            assert!(
+                rel < 5e-3,
+                "Ω = {w}: time response {} vs HB {}",
+                sim.outputs[0].max_abs,
+                hb(w)
+            );
         }
     }
 }

@@ -143,7 +143,12 @@ impl<'m, M: Model> Tracer<'m, M> {
     }
 
     /// One bordered Newton step at `y` (updated in place); the max-norm of the step.
-    pub fn newton_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, String> {
+    pub fn newton_step(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+    ) -> Result<f64, String> {
         let n = self.n;
         self.iterations += 1;
         self.assemble(y, border, target);
@@ -152,7 +157,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             return Err(format!("non-finite residual at Ω = {:.6}", self.omega(y)));
         }
         let pivots = self.lu.factor();
-        if !(pivots > 1e-15) {
+        if pivots.is_nan() || pivots <= 1e-15 {
             return Err(format!("singular bordered Jacobian at Ω = {:.6}", self.omega(y)));
         }
         self.lu.solve(&mut self.rhs);
