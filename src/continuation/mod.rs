@@ -118,7 +118,8 @@ pub struct SweepOptions {
     pub max_steps: usize,
     /// When a branch runs away.
     pub amplitude_bound: AmplitudeBound,
-    /// Stability of every point; `None` skips it (all points reported stable).
+    /// Stability of every point; `None` skips it: all points are then reported stable,
+    /// no stability changes are found, and jumps may land on unstable branches.
     pub stability: Option<StabilityOptions>,
     /// Harmonic convergence study; `None` runs once with `harmonics`.
     pub convergence: Option<ConvergenceOptions>,
