@@ -127,6 +127,9 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
             (g - e).abs() / e
         );
     }
+    let errs: Vec<String> =
+        got.iter().zip(&expected).map(|(g, e)| format!("{:.1e}", (g - e).abs() / e)).collect();
+    eprintln!("worst amplitude-equation residual {worst:.1e}; relative fold errors {errs:?}");
     // Hill: unstable exactly between the folds.
     let (f0, f1) = (curve.folds[0].after, curve.folds[1].after);
     for (i, p) in curve.points.iter().enumerate() {
