@@ -1,1 +1,229 @@
-//! (in progress: core issue)
+//! The IHBM corrector: Newton on the Fourier coefficients at fixed Ω.
+//!
+//! Each increment solves `J ΔA = -R` with a dense LU (faer). When a full step makes
+//! the residual grow, the step is halved (backtracking) so that a poor initial guess
+//! does not throw the iteration away. Failure is an error value that keeps the last
+//! iterate and the iteration history.
+
+use crate::balance::{check_inputs, linearized_guess, Balance};
+use crate::error::{Error, IterationRecord, Result};
+use crate::fourier::{coeff_len, max_abs};
+use crate::linalg::DenseLu;
+use crate::model::Model;
+use crate::results::OutputSummary;
+
+/// Options of the Newton corrector.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveOptions {
+    /// Number of harmonics N (default 5).
+    pub harmonics: usize,
+    /// Converged when the Newton step is below `tol` times the coefficient norm, or
+    /// the residual below `tol` times the forcing norm (default 1e-10).
+    pub tol: f64,
+    /// Iteration cap (default 50).
+    pub max_iter: usize,
+    /// Step halvings allowed per iteration when the residual grows (default 12).
+    pub max_halvings: usize,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions { harmonics: 5, tol: 1e-10, max_iter: 50, max_halvings: 12 }
+    }
+}
+
+/// A converged periodic solution at one frequency.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// Forcing frequency Ω, rad/s.
+    pub omega: f64,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+    /// Fourier coefficients, `[a0, a1..aN, b1..bN]` per DOF.
+    pub coeffs: Vec<f64>,
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// 2-norm of the residual at the solution.
+    pub residual_norm: f64,
+    /// Residual and step norms of every iteration.
+    pub history: Vec<IterationRecord>,
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Newton iterations on an existing [`Balance`], reusing its buffers and `lu`.
+///
+/// `a` holds the initial guess on entry and the last iterate on exit (converged or
+/// not). `scale` is the residual scale for the residual test (the forcing norm).
+pub fn newton<M: Model>(
+    hb: &mut Balance<'_, M>,
+    lu: &mut DenseLu,
+    a: &mut [f64],
+    omega: f64,
+    opts: &SolveOptions,
+    scale: f64,
+) -> Result<(usize, f64, Vec<IterationRecord>)> {
+    let len = hb.len();
+    let mut r = vec![0.0; len];
+    let mut trial = vec![0.0; len];
+    let mut r_trial = vec![0.0; len];
+    let mut step = vec![0.0; len];
+    let mut history = Vec::new();
+    let mut rn = f64::NAN;
+    let mut last_step = 0.0;
+    let mut damping = 1.0;
+    for it in 0..=opts.max_iter {
+        hb.jacobian(a, omega, &mut r, lu.matrix_mut());
+        rn = norm(&r);
+        history.push(IterationRecord {
+            iteration: it,
+            residual_norm: rn,
+            step_norm: last_step,
+            damping,
+        });
+        if !rn.is_finite() {
+            break;
+        }
+        let an = norm(a);
+        let step_ok = it > 0 && last_step <= opts.tol * an && damping == 1.0;
+        if rn <= opts.tol * scale || step_ok {
+            return Ok((it, rn, history));
+        }
+        if it == opts.max_iter {
+            break;
+        }
+        let pivot_ratio = lu.factor();
+        if pivot_ratio.is_nan() || pivot_ratio <= 1e-15 {
+            return Err(Error::SingularJacobian {
+                omega,
+                detail: format!(
+                    "pivot ratio {pivot_ratio:.2e} at iteration {it} (a fold in Ω, or a \
+                     model without stiffness at some harmonic); use continuation"
+                ),
+            });
+        }
+        for (s, x) in step.iter_mut().zip(&r) {
+            *s = -x;
+        }
+        lu.solve(&mut step);
+        // backtracking: accept the first step length that does not increase ‖R‖
+        damping = 1.0;
+        for _ in 0..=opts.max_halvings {
+            for ((t, x), s) in trial.iter_mut().zip(a.iter()).zip(&step) {
+                *t = x + damping * s;
+            }
+            hb.residual(&trial, omega, &mut r_trial);
+            let rt = norm(&r_trial);
+            if rt.is_finite() && rt <= rn {
+                break;
+            }
+            damping *= 0.5;
+        }
+        a.copy_from_slice(&trial);
+        last_step = damping * norm(&step);
+    }
+    Err(Error::NotConverged {
+        omega,
+        iterations: history.len().saturating_sub(1),
+        residual_norm: rn,
+        last: a.to_vec(),
+        history,
+    })
+}
+
+/// Solve for the periodic steady state at `omega`, starting from `guess` or from the
+/// linearized solution ([`linearized_guess`]).
+///
+/// ```
+/// use ihbm::corrector::{solve, SolveOptions};
+/// use ihbm::models::QuarterCar;
+/// let car = QuarterCar::default();
+/// let sol = solve(&car, 8.0, &SolveOptions::default(), None).unwrap();
+/// let z1 = &sol.outputs(&car)[0];
+/// assert!((z1.max_abs - 0.02297).abs() < 1e-4);
+/// ```
+pub fn solve<M: Model>(
+    model: &M,
+    omega: f64,
+    opts: &SolveOptions,
+    guess: Option<&[f64]>,
+) -> Result<Solution> {
+    check_inputs(opts.harmonics, omega)?;
+    if !(opts.tol > 0.0 && opts.tol.is_finite()) {
+        return Err(Error::InvalidValue {
+            what: "tolerance".into(),
+            value: opts.tol.to_string(),
+            expected: "a finite value > 0".into(),
+        });
+    }
+    let mut hb = Balance::new(model, opts.harmonics)?;
+    let len = hb.len();
+    let mut a = match guess {
+        Some(g) if g.len() != len => {
+            return Err(Error::InvalidValue {
+                what: "initial guess length".into(),
+                value: g.len().to_string(),
+                expected: format!("{len} = dofs x (2N + 1)"),
+            })
+        }
+        Some(g) => g.to_vec(),
+        None => linearized_guess(model, omega, opts.harmonics)?,
+    };
+    let mut r0 = vec![0.0; len];
+    hb.residual(&vec![0.0; len], omega, &mut r0);
+    let scale = norm(&r0);
+    let mut lu = DenseLu::new(len);
+    let (iterations, residual_norm, history) =
+        newton(&mut hb, &mut lu, &mut a, omega, opts, scale)?;
+    Ok(Solution { omega, harmonics: opts.harmonics, coeffs: a, iterations, residual_norm, history })
+}
+
+/// The coefficient vector (`2N + 1`) of output `output` of `model`.
+pub fn output_coeffs<M: Model>(
+    model: &M,
+    coeffs: &[f64],
+    harmonics: usize,
+    output: usize,
+) -> Vec<f64> {
+    let l = coeff_len(harmonics);
+    let mut out = vec![0.0; l];
+    for &(d, c) in model.outputs()[output].terms {
+        for (o, x) in out.iter_mut().zip(&coeffs[d * l..(d + 1) * l]) {
+            *o += c * x;
+        }
+    }
+    out
+}
+
+/// Summaries (`max_abs`, mean, first-harmonic amplitude, coefficients) of every output.
+pub fn output_summaries<M: Model>(
+    model: &M,
+    coeffs: &[f64],
+    harmonics: usize,
+) -> Vec<OutputSummary> {
+    let n = harmonics;
+    (0..model.outputs().len())
+        .map(|i| {
+            let x = output_coeffs(model, coeffs, n, i);
+            let mut sin = vec![0.0];
+            sin.extend_from_slice(&x[n + 1..]);
+            OutputSummary {
+                name: model.outputs()[i].name.to_string(),
+                max_abs: max_abs(&x),
+                mean: x[0],
+                amp1: x[1].hypot(x[n + 1]),
+                cos: x[..=n].to_vec(),
+                sin,
+            }
+        })
+        .collect()
+}
+
+impl Solution {
+    /// Summaries of every output of `model` (the model this solution came from).
+    pub fn outputs<M: Model>(&self, model: &M) -> Vec<OutputSummary> {
+        output_summaries(model, &self.coeffs, self.harmonics)
+    }
+}
