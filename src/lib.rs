@@ -31,6 +31,7 @@ pub mod stability;
 pub mod study;
 pub mod timedomain;
 
+pub use cli::Cli;
 pub use error::{Error, Result};
 pub use ihbm_macros::oscillator;
 pub use model::Model;
