@@ -135,12 +135,15 @@ impl Cli {
                         }
                     }
                     _ => {
-                        // clap's first line is the reason; the rest is usage.
+                        // clap's message may continue on indented lines (e.g. the
+                        // missing arguments); keep it, drop the usage, make it one line.
                         let text = e.render().to_string();
                         let line = text
                             .lines()
-                            .find(|l| !l.trim().is_empty())
-                            .unwrap_or("error: bad arguments");
+                            .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
+                            .map(str::trim)
+                            .collect::<Vec<_>>()
+                            .join(" ");
                         let _ = writeln!(err, "{line} (see --help)");
                         EXIT_USAGE
                     }
