@@ -228,6 +228,7 @@ fn bad_inputs_fail_with_a_reason() {
     );
     assert_rejected(&["models", "nope"], &["unknown model", "nope"]);
     assert_rejected(&["frobnicate"], &["frobnicate"]);
+    assert_rejected(&[], &["no command"]);
     assert_rejected(&["run", "/definitely/not/here.toml"], &["/definitely/not/here.toml"]);
 }
 

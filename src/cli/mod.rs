@@ -129,6 +129,7 @@ impl Cli {
                     | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                         let _ = write!(out, "{}", e.render());
                         if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                            let _ = writeln!(err, "error: no command given (see --help)");
                             EXIT_USAGE
                         } else {
                             0
