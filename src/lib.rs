@@ -37,3 +37,11 @@ pub use ihbm_macros::oscillator;
 pub use model::Model;
 /// Re-exported so generated and user code needs only `ihbm` as a dependency.
 pub use num_dual;
+
+/// The book's chapters, compiled and run as doctests so that every code block in
+/// `book/` stays true.
+#[cfg(doctest)]
+pub mod book {
+    #[doc = include_str!("../book/src/method.md")]
+    pub struct Method;
+}
