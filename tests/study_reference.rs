@@ -23,7 +23,7 @@ fn paper() -> Vec<(&'static str, Option<&'static str>, Vec<f64>)> {
         ("fig10_road_amplitude", Some("F"), vec![0.006, 0.008, 0.01]),
         ("fig11_body_mass", Some("m1"), vec![200.0, 220.0, 240.0, 260.0, 280.0]),
         ("fig12_wheel_mass", Some("m2"), vec![30.0, 40.0, 50.0, 60.0, 70.0]),
-        ("fig_jumps", None, vec![]),
+        ("fig_jumps", Some("F"), vec![0.02, 0.025, 0.03]),
     ]
 }
 
@@ -137,7 +137,7 @@ fn reference_study_runs_and_every_file_parses() {
     // 7 frequencies x 2 schemes x 3 outputs.
     assert_eq!(td.lines().count(), 1 + 7 * 2 * 3, "{td}");
     // The multi-valued figure really folds, with an unstable branch and jumps.
-    let v = check_curve_files(&dir, "fig_jumps");
+    let v = check_curve_files(&dir, "fig_jumps_F_0.03");
     assert!(v["folds"].as_array().unwrap().len() >= 2, "{}", v["folds"]);
     assert!(v["points"].as_array().unwrap().iter().any(|p| p["stable"] == false));
     assert!(v["jumps"].as_array().unwrap().len() >= 2, "{}", v["jumps"]);

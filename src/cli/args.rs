@@ -73,10 +73,10 @@ pub enum Command {
         /// Forcing frequency Ω, rad/s (> 0).
         #[arg(long, value_name = "W", allow_negative_numbers = true)]
         omega: f64,
-        /// Time step, s [default: π/(100 Ω), the paper's step].
+        /// Time step, s [default: T/400 with T = 2π/Ω].
         #[arg(long, value_name = "DT", allow_negative_numbers = true)]
         dt: Option<f64>,
-        /// Forcing periods to integrate (>= 10).
+        /// Forcing periods to integrate (>= 20: statistics over the last 10, drift vs the 10 before).
         #[arg(long, value_name = "P", default_value_t = 100)]
         periods: usize,
         /// Integration scheme: `gl` (Grünwald–Letnikov, first order) or `bdf2` (second order).

@@ -1,11 +1,15 @@
 //! The one place where the CLI and studies call the solvers (solve, sweep, simulate)
 //! for a concrete model type, turning their results into report records.
 
+use crate::balance::Balance;
+use crate::continuation::{self, AmplitudeBound, SweepOptions};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::report::{SimRecord, SolveRecord};
+use crate::report::{SimOutput, SimRecord, SolveRecord};
 use crate::results::Curve;
+use crate::stability::{Hill, StabilityOptions};
+use crate::timedomain::{self, Scheme, SimOptions};
 use serde::{Deserialize, Serialize};
 
 /// Settings of a single-frequency solve.
@@ -61,9 +65,9 @@ impl SchemeName {
 /// Settings of a time integration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimSettings {
-    /// Time step, s; `None`: the paper's π/(100 Ω) (200 steps per period).
+    /// Time step, s; `None`: the integrator's default (T/400, T = 2π/Ω).
     pub dt: Option<f64>,
-    /// Forcing periods to integrate (>= 10: statistics use the last 10).
+    /// Forcing periods to integrate (at least `timedomain::MIN_PERIODS`).
     pub periods: usize,
     /// Scheme.
     pub scheme: SchemeName,
@@ -72,13 +76,6 @@ pub struct SimSettings {
 impl Default for SimSettings {
     fn default() -> Self {
         SimSettings { dt: None, periods: 100, scheme: SchemeName::Bdf2 }
-    }
-}
-
-impl SimSettings {
-    /// The time step used at `omega`.
-    pub fn dt_at(&self, omega: f64) -> f64 {
-        self.dt.unwrap_or(std::f64::consts::PI / (100.0 * omega))
     }
 }
 
@@ -140,15 +137,21 @@ pub fn solve<M: Model>(
     })
 }
 
-/// Stability verdict of a solution (`None` until the stability module is wired).
+/// Stability verdict of a converged solution (Hill's method); `None` when it could not
+/// be computed (not converged, or the eigenproblem failed).
 fn stability<M: Model>(
-    _model: &M,
-    _omega: f64,
-    _harmonics: usize,
-    _coeffs: &[f64],
-    _converged: bool,
+    model: &M,
+    omega: f64,
+    harmonics: usize,
+    coeffs: &[f64],
+    converged: bool,
 ) -> Option<bool> {
-    None
+    if !converged {
+        return None;
+    }
+    let mut hill = Hill::new(model, harmonics).ok()?;
+    let mut bal = Balance::new(model, harmonics).ok()?;
+    hill.analyse(&mut bal, coeffs, omega, &StabilityOptions::default()).ok().map(|f| f.stable)
 }
 
 /// Trace the amplitude–frequency curve from `from` to `to` (rad/s).
@@ -169,28 +172,47 @@ pub fn sweep<M: Model>(
             expected: "from < to".into(),
         });
     }
-    let _ = (name, model);
-    Err(Error::Other("sweep is not available yet: ihbm::continuation has not landed".into()))
+    let mut opts = SweepOptions { harmonics: s.harmonics, ..SweepOptions::default() };
+    if let Some(x) = s.max_step {
+        opts.max_step = x;
+    }
+    if let Some(x) = s.tol {
+        opts.tol = x;
+    }
+    if let Some(x) = s.amplitude_bound {
+        opts.amplitude_bound = AmplitudeBound::Absolute(x);
+    }
+    if let Some(x) = s.max_steps {
+        opts.max_steps = x;
+    }
+    let mut curve = continuation::sweep(model, from, to, &opts)?;
+    curve.model = name.to_string();
+    Ok(curve)
 }
 
 /// Integrate from rest and report the steady statistics of every output.
 pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) -> Result<SimRecord> {
     check_omega("omega", omega)?;
-    let dt = s.dt_at(omega);
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(Error::InvalidValue {
-            what: "dt".into(),
-            value: dt.to_string(),
-            expected: "a time step > 0 s".into(),
-        });
-    }
-    if s.periods < 10 {
-        return Err(Error::InvalidValue {
-            what: "periods".into(),
-            value: s.periods.to_string(),
-            expected: "at least 10 (statistics use the last 10 periods)".into(),
-        });
-    }
-    let _ = (name, model);
-    Err(Error::Other("simulate is not available yet: ihbm::timedomain has not landed".into()))
+    let opts = SimOptions {
+        dt: s.dt,
+        periods: s.periods,
+        scheme: match s.scheme {
+            SchemeName::Gl => Scheme::Gl,
+            SchemeName::Bdf2 => Scheme::Bdf2,
+        },
+        ..SimOptions::default()
+    };
+    let sim = timedomain::simulate(model, omega, &opts)?;
+    Ok(SimRecord {
+        model: name.to_string(),
+        omega,
+        dt: sim.dt,
+        periods: sim.periods,
+        scheme: s.scheme.as_str().to_string(),
+        outputs: sim
+            .outputs
+            .iter()
+            .map(|o| SimOutput { name: o.name.clone(), max_abs: o.max_abs, mean: o.mean })
+            .collect(),
+    })
 }

@@ -160,13 +160,17 @@ pub fn evaluate(
                 return (Verdict::Inconclusive, found);
             }
             let vals: Vec<f64> = diffs.iter().map(|d| d.1).collect();
-            (trend_verdict(&vals, check.expect, check.tol.unwrap_or(0.02)), found)
+            (converges_verdict(&vals, check.expect, check.tol.unwrap_or(1e-5)), found)
         }
         CheckKind::Timedomain => {
             let tol = check.tol.unwrap_or(0.05);
             let rows: Vec<&TdRow> = td.iter().filter(|r| r.output == output).collect();
-            let mut schemes: Vec<&str> = rows.iter().map(|r| r.scheme.as_str()).collect();
-            schemes.dedup();
+            let mut schemes: Vec<&str> = Vec::new();
+            for r in &rows {
+                if !schemes.contains(&r.scheme.as_str()) {
+                    schemes.push(&r.scheme);
+                }
+            }
             let mut worst_all: f64 = 0.0;
             let listed = schemes
                 .iter()
@@ -195,6 +199,23 @@ pub fn evaluate(
                 found,
             )
         }
+    }
+}
+
+/// Successive relative changes `d` along a family of increasing resolution:
+/// `unchanged` means every change is at most `tol` (converged); `decreasing` means
+/// "large, then small": strictly decreasing, the first above `tol`, the last at most.
+fn converges_verdict(d: &[f64], expect: Expect, tol: f64) -> Verdict {
+    let (Some(&first), Some(&last)) = (d.first(), d.last()) else { return Verdict::Inconclusive };
+    let ok = match expect {
+        Expect::Unchanged => d.iter().all(|&x| x <= tol),
+        Expect::Decreasing => d.windows(2).all(|w| w[1] < w[0]) && first > tol && last <= tol,
+        _ => return Verdict::Inconclusive,
+    };
+    if ok {
+        Verdict::Agree
+    } else {
+        Verdict::Disagree
     }
 }
 
@@ -229,6 +250,14 @@ mod tests {
         assert_eq!(trend_verdict(&[3.0, 2.0, 1.0], Expect::Decreasing, 0.0), Verdict::Agree);
         assert_eq!(trend_verdict(&[1.0, 1.01, 0.995], Expect::Unchanged, 0.02), Verdict::Agree);
         assert_eq!(trend_verdict(&[1.0, 1.1], Expect::Unchanged, 0.02), Verdict::Disagree);
+    }
+
+    #[test]
+    fn convergence() {
+        assert_eq!(converges_verdict(&[1e-2, 1e-7], Expect::Decreasing, 1e-5), Verdict::Agree);
+        assert_eq!(converges_verdict(&[1e-12, 1e-16], Expect::Decreasing, 1e-5), Verdict::Disagree);
+        assert_eq!(converges_verdict(&[1e-12, 1e-16], Expect::Unchanged, 1e-5), Verdict::Agree);
+        assert_eq!(converges_verdict(&[1e-2, 1e-3], Expect::Unchanged, 1e-5), Verdict::Disagree);
     }
 
     #[test]

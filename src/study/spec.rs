@@ -136,7 +136,7 @@ pub struct TimeDomainSpec {
     /// Schemes (default: both).
     #[serde(default = "default_schemes")]
     pub schemes: Vec<SchemeName>,
-    /// Forcing periods per run (default 100; >= 10).
+    /// Forcing periods per run (default 100; at least `timedomain::MIN_PERIODS`).
     pub periods: Option<usize>,
     /// Steps per forcing period (default 200: the paper's step π/(100 Ω)).
     pub steps_per_period: Option<f64>,
@@ -192,7 +192,8 @@ pub struct CheckSpec {
     pub output: Option<String>,
     /// Frequency band, rad/s (default: the whole range).
     pub band: Option<[f64; 2]>,
-    /// Relative tolerance for `unchanged` and `agree` (defaults 0.02 and 0.05).
+    /// Relative tolerance: `unchanged` trends (default 0.02), `agree` (0.05), and
+    /// `converges` (1e-5: the largest change that counts as converged).
     pub tol: Option<f64>,
     /// For `folds`/`present`: the family value from which folds are claimed.
     pub from_value: Option<f64>,
@@ -335,14 +336,16 @@ impl Study {
                         )));
                     }
                 }
-                if td.periods.is_some_and(|p| p < 10) {
+                let min = crate::timedomain::MIN_PERIODS;
+                if td.periods.is_some_and(|p| p < min) {
                     return Err(
-                        self.whole(format!("figure '{id}': timedomain periods must be >= 10"))
+                        self.whole(format!("figure '{id}': timedomain periods must be >= {min}"))
                     );
                 }
-                if td.steps_per_period.is_some_and(|s| !(s.is_finite() && s >= 4.0)) {
+                let min_steps = crate::timedomain::MIN_STEPS_PER_PERIOD;
+                if td.steps_per_period.is_some_and(|s| !(s.is_finite() && s >= min_steps)) {
                     return Err(self.whole(format!(
-                        "figure '{id}': timedomain steps_per_period must be >= 4"
+                        "figure '{id}': timedomain steps_per_period must be >= {min_steps}"
                     )));
                 }
             }
