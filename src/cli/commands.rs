@@ -204,7 +204,7 @@ fn models(reg: &Registry, name: Option<&str>, out: &mut dyn Write) -> Result<(),
             w(out, format_args!("no models registered\n"))?;
         }
         for m in reg.entries() {
-            let desc = m.description().lines().next().unwrap_or("");
+            let desc = m.description().split_whitespace().collect::<Vec<_>>().join(" ");
             w(out, format_args!("{:<22} {}\n", m.name(), desc))?;
         }
         return Ok(());

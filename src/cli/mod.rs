@@ -76,11 +76,19 @@ impl Cli {
 
     /// The `ihbm` binary's command line: every built-in model registered.
     pub fn builtin() -> Self {
-        use crate::models::{Duffing, FractionalDuffing, QuarterCar};
+        use crate::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
         Cli::new()
-            .model::<QuarterCar>("quarter-car")
-            .model::<Duffing>("duffing")
-            .model::<FractionalDuffing>("fractional-duffing")
+            .own_name::<QuarterCar>()
+            .own_name::<Duffing>()
+            .own_name::<FractionalDuffing>()
+            .own_name::<TwoMassChain>()
+            .own_name::<BaseExcited>()
+    }
+
+    /// Register `M::default()` under its own [`Model::name`].
+    pub fn own_name<M: Model + Default + Clone + 'static>(self) -> Self {
+        let name = M::default().name();
+        self.model::<M>(name)
     }
 
     /// Register `M::default()` under `name`.
