@@ -46,6 +46,8 @@ fn linear_curve(f: f64) -> Curve {
         jumps: vec![],
         segments: vec![Segment { from_omega: 1.0, to_omega: 100.0, ended: SegmentEnd::ReachedEnd }],
         stats: CurveStats::default(),
+        bifurcations: vec![],
+        convergence: None,
     }
 }
 
@@ -94,7 +96,9 @@ fn s_curve() -> Curve {
             to_omega: omega(1.0),
             ended: SegmentEnd::ReachedEnd,
         }],
-        stats: CurveStats { steps: n, rejected_steps: 0, corrector_iterations: 0, folds: 2 },
+        stats: CurveStats { folds: 2, ..CurveStats::default() },
+        bifurcations: vec![],
+        convergence: None,
     }
 }
 

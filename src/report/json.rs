@@ -32,7 +32,7 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 }
 
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
-/// `parameter` and `stats` (extensions, after the contract's fields).
+/// `parameter`, `stats` and `bifurcations` (extensions, after the contract's fields).
 pub fn sweep_json(c: &Curve) -> Value {
     let points: Vec<Value> = c
         .points
@@ -72,7 +72,7 @@ pub fn sweep_json(c: &Curve) -> Value {
     json!({
         "model": c.model, "harmonics": c.harmonics, "points": points,
         "folds": folds, "jumps": jumps, "segments": segments,
-        "parameter": c.parameter, "stats": c.stats,
+        "parameter": c.parameter, "stats": c.stats, "bifurcations": c.bifurcations,
     })
 }
 
