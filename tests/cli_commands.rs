@@ -255,3 +255,111 @@ fn malformed_study_files_name_file_line_and_column() {
         );
     }
 }
+
+#[test]
+fn sweep_writes_contract_json_csv_and_plot() {
+    // A hardening Duffing oscillator (backbone bends right): two folds, a jump each way.
+    let (csv, svg) = (tmp("duffing.csv"), tmp("duffing.svg"));
+    let o = ihbm(&[
+        "sweep",
+        "duffing",
+        "--from",
+        "0.5",
+        "--to",
+        "2.5",
+        "--harmonics",
+        "1",
+        "--set",
+        "c=0.05",
+        "--set",
+        "F=0.2",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(&keys(&v)[..6], ["model", "harmonics", "points", "folds", "jumps", "segments"]);
+    assert_eq!(v["model"], "duffing");
+    assert_eq!(v["harmonics"].as_u64(), Some(1));
+    let points = v["points"].as_array().unwrap();
+    for p in points {
+        assert_eq!(keys(p), ["omega", "stable", "outputs"]);
+        assert!(p["stable"].is_boolean());
+        assert_eq!(keys(&p["outputs"]), ["x"]);
+        assert_eq!(keys(&p["outputs"]["x"]), ["max_abs", "mean", "amp1"]);
+    }
+    let folds = v["folds"].as_array().unwrap();
+    assert_eq!(folds.len(), 2, "{}", v["folds"]);
+    for f in folds {
+        assert_eq!(keys(f), ["omega", "outputs"]);
+        assert_eq!(keys(&f["outputs"]["x"]), ["max_abs"]);
+    }
+    let jumps = v["jumps"].as_array().unwrap();
+    assert!(
+        jumps.iter().any(|j| j["direction"] == "up")
+            && jumps.iter().any(|j| j["direction"] == "down")
+    );
+    for j in jumps {
+        assert_eq!(keys(j), ["direction", "omega", "output", "from", "to"]);
+    }
+    for s in v["segments"].as_array().unwrap() {
+        assert_eq!(keys(s), ["from_omega", "to_omega", "ended"]);
+    }
+    // The middle branch between the folds is unstable (a saddle).
+    assert!(points.iter().any(|p| p["stable"] == false));
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(csv.lines().next(), Some("omega,stable,x_max_abs,x_mean,x_amp1"));
+    assert_eq!(csv.lines().count(), 1 + points.len());
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    roxmltree::Document::parse(&svg).unwrap();
+}
+
+#[test]
+fn simulate_json_matches_the_contract_and_the_closed_form() {
+    // Linear quarter car (k3 = 0) from rest: after 200 periods the steady amplitude is
+    // the closed-form one (ERRATA.md) up to the scheme's error and the t^-p transient.
+    let o = ihbm(&[
+        "simulate",
+        "quarter-car",
+        "--omega",
+        "8",
+        "--set",
+        "k3=0",
+        "--periods",
+        "200",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(keys(&v), ["model", "omega", "dt", "periods", "scheme", "outputs"]);
+    assert_eq!(v["scheme"], "bdf2");
+    assert_eq!(v["periods"].as_u64(), Some(200));
+    assert!(v["dt"].as_f64().unwrap() > 0.0);
+    assert_eq!(keys(&v["outputs"]), ["z1", "z2", "y"]);
+    for out in ["z1", "z2", "y"] {
+        assert_eq!(keys(&v["outputs"][out]), ["max_abs", "mean"]);
+    }
+    let (z1, _) = linear_qc(8.0);
+    let got = v["outputs"]["z1"]["max_abs"].as_f64().unwrap();
+    assert!((got - 0.01 * z1).abs() < 1e-3 * 0.01 * z1, "{got} vs {}", 0.01 * z1);
+    let path = tmp("sim.json");
+    let o = ihbm(&[
+        "simulate",
+        "duffing",
+        "--omega",
+        "2",
+        "--scheme",
+        "gl",
+        "--periods",
+        "40",
+        "--json",
+        path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(v["scheme"], "gl");
+}
