@@ -152,7 +152,7 @@ fn draw_panel(
             y1 = y1.max(m.value);
         }
     }
-    if !(x0 < x1) {
+    if x0.partial_cmp(&x1) != Some(std::cmp::Ordering::Less) {
         (x0, x1) = (0.0, 1.0);
     }
     if y1 <= 0.0 {

@@ -130,7 +130,7 @@ pub fn evaluate(
             }
             let ok = match (check.expect, check.from_value) {
                 (Expect::Present, Some(from)) => {
-                    facts.iter().all(|(m, f)| (m.value >= from) == !f.folds.is_empty())
+                    facts.iter().all(|(m, f)| (m.value >= from) != f.folds.is_empty())
                 }
                 (Expect::Present, None) => facts.iter().any(|(_, f)| !f.folds.is_empty()),
                 (Expect::Absent, _) => facts.iter().all(|(_, f)| f.folds.is_empty()),
