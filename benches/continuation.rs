@@ -10,11 +10,7 @@ fn quarter_car_curve(c: &mut Criterion) {
     let with = SweepOptions::default();
     let without = SweepOptions { stability: None, ..Default::default() };
     let curve = sweep(&car, 1.0, 100.0, &with).expect("reference curve");
-    eprintln!(
-        "quarter car 1..100 rad/s, N = 5: {} points, {:?}",
-        curve.points.len(),
-        curve.stats
-    );
+    eprintln!("quarter car 1..100 rad/s, N = 5: {} points, {:?}", curve.points.len(), curve.stats);
     let mut g = c.benchmark_group("continuation");
     g.sample_size(20);
     g.bench_function("quarter_car_1_100_N5_with_stability", |b| {

@@ -210,11 +210,8 @@ impl Hill {
         let ndof = model.dofs().len();
         let len = 2 * harmonics + 1;
         let m = ndof * len;
-        let samples = crate::fourier::sample_count(
-            model.degree(),
-            harmonics,
-            model.max_forcing_harmonic(),
-        );
+        let samples =
+            crate::fourier::sample_count(model.degree(), harmonics, model.max_forcing_harmonic());
         let mut degree = 0usize;
         let mut fractional = false;
         let signals: Vec<_> = model
@@ -244,24 +241,24 @@ impl Hill {
         let neq = ndof;
         let nsig = signals.len();
         let big = degree * m;
-        let scratch = faer::linalg::evd::evd_scratch::<f64>(
-            big,
-            faer::linalg::evd::ComputeEigenvectors::No,
-            faer::linalg::evd::ComputeEigenvectors::No,
-            Par::Seq,
-            Default::default(),
-        )
-        .or(faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(
-            m,
-            m,
-            Par::Seq,
-            Default::default(),
-        ))
-        .or(faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<usize, f64>(
-            m,
-            big,
-            Par::Seq,
-        ));
+        let scratch =
+            faer::linalg::evd::evd_scratch::<f64>(
+                big,
+                faer::linalg::evd::ComputeEigenvectors::No,
+                faer::linalg::evd::ComputeEigenvectors::No,
+                Par::Seq,
+                Default::default(),
+            )
+            .or(faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(
+                m,
+                m,
+                Par::Seq,
+                Default::default(),
+            ))
+            .or(faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<
+                usize,
+                f64,
+            >(m, big, Par::Seq));
         Ok(Hill {
             ndof,
             harmonics,
@@ -415,7 +412,17 @@ impl Hill {
                 for e in 0..self.ndof {
                     let p = &self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
                     for &(d, c) in terms {
-                        add_product(&mut self.coef[r], e * len, d * len, c, p, len, nh, &alpha, &beta);
+                        add_product(
+                            &mut self.coef[r],
+                            e * len,
+                            d * len,
+                            c,
+                            p,
+                            len,
+                            nh,
+                            &alpha,
+                            &beta,
+                        );
                     }
                 }
             }
@@ -478,7 +485,9 @@ impl Hill {
             MemStack::new(&mut self.mem),
             Default::default(),
         )
-        .map_err(|e| Error::Other(format!("Hill's method: eigenvalues failed at Ω = {omega}: {e:?}")))?;
+        .map_err(|e| {
+            Error::Other(format!("Hill's method: eigenvalues failed at Ω = {omega}: {e:?}"))
+        })?;
         for i in 0..big {
             self.cands.push(Complex64::new(self.s_re[i], self.s_im[i]));
         }
@@ -511,7 +520,9 @@ impl Hill {
             }
         }
         let ge = a.generalized_eigen(&b).map_err(|e| {
-            Error::Other(format!("Hill's method: generalized eigenvalues failed at Ω = {omega}: {e:?}"))
+            Error::Other(format!(
+                "Hill's method: generalized eigenvalues failed at Ω = {omega}: {e:?}"
+            ))
         })?;
         let (sa, sb) = (ge.S_a(), ge.S_b());
         for i in 0..big {
@@ -579,7 +590,13 @@ impl Hill {
     }
 
     /// Nonlinear inverse iteration from the candidate `l0`; `None` if it fails.
-    fn refine(&self, params: &[f64], omega: f64, l0: Complex64, max_iter: usize) -> Option<Complex64> {
+    fn refine(
+        &self,
+        params: &[f64],
+        omega: f64,
+        l0: Complex64,
+        max_iter: usize,
+    ) -> Option<Complex64> {
         let m = self.m;
         let zero = Complex64::new(0.0, 0.0);
         let mut t = Mat::<Complex64>::zeros(m, m);
@@ -588,7 +605,9 @@ impl Hill {
         // Start vector: one step of inverse iteration at the candidate.
         self.assemble_full(params, omega, lambda, &mut t, &mut dt);
         let lu = t.partial_piv_lu();
-        let b = Mat::<Complex64>::from_fn(m, 1, |i, _| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0));
+        let b = Mat::<Complex64>::from_fn(m, 1, |i, _| {
+            Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)
+        });
         let mut v = lu.solve(&b);
         let u = v.clone();
         let norm = dot(&u, &v);

@@ -23,7 +23,10 @@ struct OneHarmonic {
 impl OneHarmonic {
     fn kd(&self, w: f64) -> (f64, f64) {
         let wp = if self.h == 0.0 { 0.0 } else { self.h * w.powf(self.p) };
-        (self.k + wp * (self.p * PI / 2.0).cos() - self.m * w * w, self.c * w + wp * (self.p * PI / 2.0).sin())
+        (
+            self.k + wp * (self.p * PI / 2.0).cos() - self.m * w * w,
+            self.c * w + wp * (self.p * PI / 2.0).sin(),
+        )
     }
     /// Relative residual of the amplitude equation at (Ω, a).
     fn residual(&self, w: f64, a: f64) -> f64 {
@@ -36,7 +39,9 @@ impl OneHarmonic {
         let (k0, d) = self.kd(w);
         let beta = 0.75 * self.k3;
         let (a, b, c, e) = (beta * beta, 2.0 * k0 * beta, k0 * k0 + d * d, -self.f * self.f);
-        18.0 * a * b * c * e - 4.0 * b.powi(3) * e + b * b * c * c - 4.0 * a * c.powi(3) - 27.0 * a * a * e * e
+        18.0 * a * b * c * e - 4.0 * b.powi(3) * e + b * b * c * c
+            - 4.0 * a * c.powi(3)
+            - 27.0 * a * a * e * e
     }
     /// Fold frequencies: sign changes of the discriminant, refined by bisection.
     fn folds(&self, lo: f64, hi: f64) -> Vec<f64> {
@@ -69,7 +74,8 @@ impl OneHarmonic {
         let beta = 0.75 * self.k3;
         let g = |s: f64| s * ((k0 + beta * s).powi(2) + d * d) - self.f * self.f;
         let mut roots = Vec::new();
-        let grid: Vec<f64> = (0..=4000).map(|i| 10f64.powf(-8.0 + 12.0 * i as f64 / 4000.0)).collect();
+        let grid: Vec<f64> =
+            (0..=4000).map(|i| 10f64.powf(-8.0 + 12.0 * i as f64 / 4000.0)).collect();
         for win in grid.windows(2) {
             let (mut a, mut b) = (win[0], win[1]);
             if g(a).signum() == g(b).signum() {
@@ -115,7 +121,11 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
     got.sort_by(f64::total_cmp);
     assert_eq!(got.len(), 2, "folds {got:?}, expected {expected:?}");
     for (g, e) in got.iter().zip(&expected) {
-        assert!((g - e).abs() < 1e-8 * e, "fold at {g}, expected {e} (rel {:.2e})", (g - e).abs() / e);
+        assert!(
+            (g - e).abs() < 1e-8 * e,
+            "fold at {g}, expected {e} (rel {:.2e})",
+            (g - e).abs() / e
+        );
     }
     // Hill: unstable exactly between the folds.
     let (f0, f1) = (curve.folds[0].after, curve.folds[1].after);
@@ -137,7 +147,10 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
     // Landing amplitudes: the other root of the equation (linear interpolation on the
     // curve, so to the accuracy of the polyline).
     assert!((up.to - roots_up[0]).abs() < 2e-2 * roots_up[0], "{up:?} vs {roots_up:?}");
-    assert!((down.to - roots_down.last().unwrap()).abs() < 2e-2 * down.to, "{down:?} vs {roots_down:?}");
+    assert!(
+        (down.to - roots_down.last().unwrap()).abs() < 2e-2 * down.to,
+        "{down:?} vs {roots_down:?}"
+    );
 }
 
 #[test]
@@ -160,7 +173,8 @@ fn fractional_duffing_one_harmonic_matches_amplitude_equation() {
 fn secant_predictor_traces_the_same_curve() {
     let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
     let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: 0.2 };
-    let opts = SweepOptions { predictor: ihbm::continuation::Predictor::Secant, ..one_harmonic_opts() };
+    let opts =
+        SweepOptions { predictor: ihbm::continuation::Predictor::Secant, ..one_harmonic_opts() };
     let curve = sweep(&model, 0.5, 2.5, &opts).unwrap();
     check_curve(&curve, &eq, 0.5, 2.5);
 }

@@ -60,7 +60,11 @@ fn every_parameter_value_of_sections_4_2_and_4_3_traces_1_to_100() {
         let c = sweep(&model, 1.0, 100.0, &opts).unwrap_or_else(|e| panic!("{case:?}: {e}"));
         check_whole(&c, &format!("{case:?}"), &model);
         // ERRATA: at F <= 1 cm and Table 1 damping there is no fold for any k3.
-        assert!(c.folds.is_empty(), "{case:?}: folds {:?}", c.folds.iter().map(|f| f.omega).collect::<Vec<_>>());
+        assert!(
+            c.folds.is_empty(),
+            "{case:?}: folds {:?}",
+            c.folds.iter().map(|f| f.omega).collect::<Vec<_>>()
+        );
         assert!(c.points.iter().all(|p| p.stable), "{case:?}: an unstable point without folds");
         assert!(c.jumps.is_empty());
     }
@@ -99,7 +103,8 @@ fn large_road_amplitude_folds_and_jumps() {
                 let inside = (p.omega - at) * (q.omega - at) <= 0.0;
                 inside && p.stable && q.stable && {
                     let t = (at - p.omega) / (q.omega - p.omega);
-                    let v = p.outputs[k].max_abs + t * (q.outputs[k].max_abs - p.outputs[k].max_abs);
+                    let v =
+                        p.outputs[k].max_abs + t * (q.outputs[k].max_abs - p.outputs[k].max_abs);
                     (v - j.to).abs() < 1e-12 * v.abs().max(1e-300) + 1e-15
                 }
             });

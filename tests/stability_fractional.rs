@@ -26,7 +26,8 @@ fn linear_fractional_exponents_are_the_characteristic_roots() {
     for (h, p, omega) in [(0.3, 0.5, 0.7), (0.5, 0.3, 2.0), (0.2, 1.5, 1.3), (0.3, 0.5, 3.1)] {
         let model = FractionalDuffing { m: 1.0, c: 0.05, k: 1.0, k3: 0.0, h, p, F: 0.1 };
         let n = 3;
-        let sol = solve(&model, omega, &SolveOptions { harmonics: n, ..Default::default() }, None).unwrap();
+        let sol = solve(&model, omega, &SolveOptions { harmonics: n, ..Default::default() }, None)
+            .unwrap();
         let mut bal = Balance::new(&model, n).unwrap();
         let mut hill = Hill::new(&model, n).unwrap();
         let f = hill.analyse(&mut bal, &sol.coeffs, omega, &StabilityOptions::default()).unwrap();
@@ -57,7 +58,8 @@ fn negative_damping_is_unstable() {
     let model = FractionalDuffing { m: 1.0, c: -0.3, k: 1.0, k3: 0.0, h: 0.1, p: 0.5, F: 0.1 };
     let n = 2;
     let omega = 0.5;
-    let sol = solve(&model, omega, &SolveOptions { harmonics: n, ..Default::default() }, None).unwrap();
+    let sol =
+        solve(&model, omega, &SolveOptions { harmonics: n, ..Default::default() }, None).unwrap();
     let mut bal = Balance::new(&model, n).unwrap();
     let mut hill = Hill::new(&model, n).unwrap();
     let f = hill.analyse(&mut bal, &sol.coeffs, omega, &StabilityOptions::default()).unwrap();

@@ -70,7 +70,8 @@ impl Model for Mathieu {
         s: &[D],
         out: &mut [D],
     ) {
-        out[0] = p[0] * s[2] + p[1] * s[1] + p[2] * (p[3] * phase.cos() + 1.0) * s[0] - p[4] * phase.cos();
+        out[0] = p[0] * s[2] + p[1] * s[1] + p[2] * (p[3] * phase.cos() + 1.0) * s[0]
+            - p[4] * phase.cos();
     }
 }
 
@@ -79,7 +80,8 @@ const MODEL: Mathieu = Mathieu { m: 1.0, c: 0.05, k: 1.0, eps: 0.4, f: 0.1 };
 /// Monodromy matrix of the homogeneous equation by RK4: (trace, determinant).
 fn monodromy(w: f64) -> (f64, f64) {
     let Mathieu { m, c, k, eps, .. } = MODEL;
-    let rhs = |t: f64, y: [f64; 2]| [y[1], -(c * y[1] + k * (1.0 + eps * (w * t).cos()) * y[0]) / m];
+    let rhs =
+        |t: f64, y: [f64; 2]| [y[1], -(c * y[1] + k * (1.0 + eps * (w * t).cos()) * y[0]) / m];
     let steps = 4000;
     let dt = 2.0 * std::f64::consts::PI / w / steps as f64;
     let mut cols = [[1.0, 0.0], [0.0, 1.0]];
@@ -173,7 +175,12 @@ fn hill_exponents_match_monodromy_multipliers() {
     for p in &curve.points {
         let f = hill.analyse(&mut bal, &p.coeffs, p.omega, &StabilityOptions::default()).unwrap();
         let g = growth(p.omega);
-        assert!((f.max_real - g).abs() < 1e-7, "Ω = {}: Hill {} vs monodromy {g}", p.omega, f.max_real);
+        assert!(
+            (f.max_real - g).abs() < 1e-7,
+            "Ω = {}: Hill {} vs monodromy {g}",
+            p.omega,
+            f.max_real
+        );
         assert_eq!(f.exponents.len(), 2);
     }
 }

@@ -112,7 +112,8 @@ fn walk(
                     continue;
                 }
                 let w = (xf - ka) / (kb - ka);
-                let amps: Vec<f64> = a.amps.iter().zip(&b.amps).map(|(p, q)| p + w * (q - p)).collect();
+                let amps: Vec<f64> =
+                    a.amps.iter().zip(&b.amps).map(|(p, q)| p + w * (q - p)).collect();
                 let dist: f64 = amps
                     .iter()
                     .zip(&vi.amps)

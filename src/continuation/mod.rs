@@ -174,8 +174,7 @@ pub fn sweep_param<M: Model>(
     if !(omega.is_finite() && omega > 0.0) {
         return Err(invalid("frequency", omega, "a positive frequency in rad/s"));
     }
-    if model.signals().iter().any(|s| s.order == Order::Param(index))
-        && !(0.0 <= from && to <= 2.0)
+    if model.signals().iter().any(|s| s.order == Order::Param(index)) && !(0.0 <= from && to <= 2.0)
     {
         return Err(invalid(
             &format!("range of fractional order {param}"),
@@ -253,7 +252,10 @@ fn check_options(o: &SweepOptions) -> Result<()> {
 }
 
 /// Run once, or rerun with more harmonics until the curve converges.
-fn with_convergence(opts: &SweepOptions, run: impl Fn(&SweepOptions) -> Result<Curve>) -> Result<Curve> {
+fn with_convergence(
+    opts: &SweepOptions,
+    run: impl Fn(&SweepOptions) -> Result<Curve>,
+) -> Result<Curve> {
     let Some(conv) = opts.convergence else {
         return run(opts);
     };
@@ -269,7 +271,8 @@ fn with_convergence(opts: &SweepOptions, run: impl Fn(&SweepOptions) -> Result<C
         let folds: Vec<f64> = curve.folds.iter().map(|f| f.param).collect();
         let change = match &prev {
             Some((pp, pf)) if pf.len() == folds.len() => {
-                let rel = |a: f64, b: f64| (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+                let rel =
+                    |a: f64, b: f64| (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
                 let c1 = peaks.iter().zip(pp).map(|(&a, &b)| rel(a, b)).fold(0.0, f64::max);
                 let c2 = folds.iter().zip(pf).map(|(&a, &b)| rel(a, b)).fold(0.0, f64::max);
                 c1.max(c2)
@@ -284,12 +287,8 @@ fn with_convergence(opts: &SweepOptions, run: impl Fn(&SweepOptions) -> Result<C
         });
         let converged = change < conv.tol;
         if converged || o.harmonics + conv.increment.max(1) > conv.max_harmonics {
-            curve.convergence = Some(HarmonicConvergence {
-                levels,
-                tol: conv.tol,
-                converged,
-                estimate: change,
-            });
+            curve.convergence =
+                Some(HarmonicConvergence { levels, tol: conv.tol, converged, estimate: change });
             return Ok(curve);
         }
         prev = Some((peaks, folds));
@@ -419,7 +418,12 @@ impl<'m, M: Model> Run<'_, 'm, M> {
     fn segment_record(&self, seg: usize, start: f64, ended: SegmentEnd) -> Segment {
         let mut it = self.nodes.iter().filter(|nd| nd.segment == seg);
         let first = it.next().map_or(start, |nd| self.tr.lambda(&nd.y));
-        let last = self.nodes.iter().rev().find(|nd| nd.segment == seg).map_or(start, |nd| self.tr.lambda(&nd.y));
+        let last = self
+            .nodes
+            .iter()
+            .rev()
+            .find(|nd| nd.segment == seg)
+            .map_or(start, |nd| self.tr.lambda(&nd.y));
         Segment { from_omega: first, to_omega: last, ended }
     }
 
@@ -432,7 +436,10 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         let target = lam / self.tr.sl;
         y[n] = target;
         let guess = if self.tr.axis == Axis::Omega {
-            let so = crate::corrector::SolveOptions { harmonics: self.opts.harmonics, ..Default::default() };
+            let so = crate::corrector::SolveOptions {
+                harmonics: self.opts.harmonics,
+                ..Default::default()
+            };
             crate::corrector::solve(model, lam, &so, None).ok().map(|s| s.coeffs)
         } else {
             None
@@ -479,7 +486,9 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         let opts = self.opts;
         let y0 = match self.start(model, lam0) {
             Ok(y) => y,
-            Err(why) => return SegmentEnd::Stalled(format!("no solution at the start {lam0}: {why}")),
+            Err(why) => {
+                return SegmentEnd::Stalled(format!("no solution at the start {lam0}: {why}"))
+            }
         };
         let mut t0 = vec![0.0; n + 1];
         self.tr.tangent(&mut t0);
@@ -761,7 +770,10 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             }
             for i in 0..points.len().saturating_sub(1) {
                 let same = self.nodes[i].segment == self.nodes[i + 1].segment;
-                if !same || points[i].stable == points[i + 1].stable || raw.iter().any(|f| f.after == i) {
+                if !same
+                    || points[i].stable == points[i + 1].stable
+                    || raw.iter().any(|f| f.after == i)
+                {
                     continue;
                 }
                 if !(growth[i].is_finite() && growth[i + 1].is_finite()) {
@@ -781,7 +793,8 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         }
         self.stats.folds = folds.len();
         self.stats.corrector_iterations = self.tr.iterations;
-        let output_names: Vec<String> = model.outputs().iter().map(|o| o.name.to_string()).collect();
+        let output_names: Vec<String> =
+            model.outputs().iter().map(|o| o.name.to_string()).collect();
         let jumps = find_jumps(&points, &folds, &output_names);
         Ok(Curve {
             model: model.name().to_string(),

@@ -143,7 +143,12 @@ impl<'m, M: Model> Tracer<'m, M> {
     }
 
     /// One bordered Newton step at `y` (updated in place); the max-norm of the step.
-    pub fn newton_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, String> {
+    pub fn newton_step(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+    ) -> Result<f64, String> {
         let n = self.n;
         self.iterations += 1;
         self.assemble(y, border, target);
