@@ -31,6 +31,7 @@ pub mod stability;
 pub mod study;
 pub mod timedomain;
 
+pub use cli::Cli;
 pub use error::{Error, Result};
 /// Declare a model in the DSL: parameters with defaults, DOFs, `let` aliases,
 /// equations and outputs; generates a struct implementing [`Model`]. The language, its

@@ -1,0 +1,285 @@
+//! What each subcommand does, given parsed arguments and the registered models.
+
+use super::args::Command;
+use super::engine::{SimSettings, SolveSettings, SweepSettings};
+use super::progress;
+use super::registry::{AnyModel, Registry};
+use super::Failure;
+use crate::error::Error;
+use crate::report::{self, Figure, FreqUnit, Panel, Series};
+use crate::study;
+use std::io::Write;
+use std::path::Path;
+
+pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
+    match cmd {
+        Command::Models { name } => models(reg, name.as_deref(), out),
+        Command::Solve { name, omega, harmonics, set, json } => {
+            let model = configured(reg, &name, &set)?;
+            let pb = progress::spinner(&format!("solving {name} at Ω = {omega} rad/s"));
+            let rec = model.solve(omega, &SolveSettings { harmonics }).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            let rec = rec?;
+            match json.as_deref() {
+                Some(target) => emit_json(&report::solve_json(&rec), target, out)?,
+                None => {
+                    w(out, format_args!(
+                        "{} at Ω = {} rad/s, N = {}: {} after {} iterations (residual {:.3e}), stable: {}\n",
+                        rec.model,
+                        rec.omega,
+                        rec.harmonics,
+                        if rec.converged { "converged" } else { "NOT converged" },
+                        rec.iterations,
+                        rec.residual_norm,
+                        rec.stable.map_or("unknown".to_string(), |s| s.to_string())
+                    ))?;
+                    w(
+                        out,
+                        format_args!(
+                            "{:<10} {:>14} {:>14} {:>14}\n",
+                            "output", "max_abs", "mean", "amp1"
+                        ),
+                    )?;
+                    for o in &rec.outputs {
+                        w(
+                            out,
+                            format_args!(
+                                "{:<10} {:>14.6e} {:>14.6e} {:>14.6e}\n",
+                                o.name, o.max_abs, o.mean, o.amp1
+                            ),
+                        )?;
+                    }
+                }
+            }
+            if rec.converged {
+                Ok(())
+            } else {
+                Err(Failure::failed(format!(
+                    "Newton did not converge at omega = {} after {} iterations (residual norm {:.3e}); result written with \"converged\": false",
+                    rec.omega, rec.iterations, rec.residual_norm
+                )))
+            }
+        }
+        Command::Sweep { name, from, to, harmonics, set, csv, json, plot } => {
+            let model = configured(reg, &name, &set)?;
+            let settings = SweepSettings { harmonics, ..SweepSettings::default() };
+            let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
+            let curve = model.sweep(from, to, &settings).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            let curve = curve?;
+            if let Some(path) = &csv {
+                report::write_file(path, &report::curve_csv(&curve)).map_err(Failure::failed)?;
+            }
+            if let Some(path) = &plot {
+                let panels = curve
+                    .output_names
+                    .iter()
+                    .map(|o| Panel { output: o.clone(), label: format!("max |{o}|") })
+                    .collect();
+                let fig = Figure {
+                    title: format!("{name}: amplitude–frequency curve, N = {harmonics}"),
+                    unit: FreqUnit::RadPerSec,
+                    panels,
+                    series: vec![Series { label: name.clone(), curve: &curve }],
+                    markers: vec![],
+                };
+                let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
+                report::write_file(path, &svg).map_err(Failure::failed)?;
+            }
+            match json.as_deref() {
+                Some(target) => emit_json(&report::sweep_json(&curve), target, out)?,
+                None => {
+                    w(
+                        out,
+                        format_args!(
+                            "{name}: {} points, {} folds, {} jumps, {} segments\n",
+                            curve.points.len(),
+                            curve.folds.len(),
+                            curve.jumps.len(),
+                            curve.segments.len()
+                        ),
+                    )?;
+                    for f in &curve.folds {
+                        w(out, format_args!("  fold at Ω = {:.8} rad/s\n", f.omega))?;
+                    }
+                    for j in &curve.jumps {
+                        w(
+                            out,
+                            format_args!(
+                                "  jump ({:?}) at Ω = {:.6} rad/s: {} {:.6e} -> {:.6e}\n",
+                                j.direction, j.omega, j.output, j.from, j.to
+                            ),
+                        )?;
+                    }
+                    for s in &curve.segments {
+                        w(
+                            out,
+                            format_args!(
+                                "  segment {} -> {} rad/s: {}\n",
+                                s.from_omega, s.to_omega, s.ended
+                            ),
+                        )?;
+                    }
+                }
+            }
+            Ok(())
+        }
+        Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
+            let model = configured(reg, &name, &set)?;
+            let settings = SimSettings { dt, periods, scheme };
+            let pb = progress::spinner(&format!(
+                "integrating {name} at Ω = {omega} rad/s ({periods} periods)"
+            ));
+            let rec = model.simulate(omega, &settings).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            let rec = rec?;
+            match json.as_deref() {
+                Some(target) => emit_json(&report::simulate_json(&rec), target, out)?,
+                None => {
+                    w(out, format_args!(
+                        "{} at Ω = {} rad/s, dt = {:.4e} s, {} periods, scheme {} (last 10 periods):\n",
+                        rec.model, rec.omega, rec.dt, rec.periods, rec.scheme
+                    ))?;
+                    w(out, format_args!("{:<10} {:>14} {:>14}\n", "output", "max_abs", "mean"))?;
+                    for o in &rec.outputs {
+                        w(
+                            out,
+                            format_args!("{:<10} {:>14.6e} {:>14.6e}\n", o.name, o.max_abs, o.mean),
+                        )?;
+                    }
+                }
+            }
+            Ok(())
+        }
+        Command::Run { study: file, out: dir } => run(reg, file.as_deref(), &dir, out),
+    }
+}
+
+fn w(out: &mut dyn Write, args: std::fmt::Arguments) -> Result<(), Failure> {
+    out.write_fmt(args).map_err(|e| Failure::failed(format!("writing to standard output: {e}")))
+}
+
+/// A fresh model with `--set P=V` overrides applied.
+fn configured(reg: &Registry, name: &str, sets: &[String]) -> Result<Box<dyn AnyModel>, Failure> {
+    let mut model = reg.get(name).map_err(Failure::from_error)?;
+    for s in sets {
+        let (p, v) = parse_set(s)?;
+        model.set_param(p, v).map_err(Failure::from_error)?;
+    }
+    Ok(model)
+}
+
+/// Parse `P=V` with V a finite number.
+pub(crate) fn parse_set(s: &str) -> Result<(&str, f64), Failure> {
+    let Some((p, v)) = s.split_once('=') else {
+        return Err(Failure::usage(format!("invalid --set '{s}': expected P=V, e.g. k3=3e6")));
+    };
+    let (p, v) = (p.trim(), v.trim());
+    if p.is_empty() {
+        return Err(Failure::usage(format!(
+            "invalid --set '{s}': missing parameter name before '='"
+        )));
+    }
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok((p, x)),
+        _ => Err(Failure::usage(format!(
+            "invalid value '{v}' for parameter {p}: expected a finite number"
+        ))),
+    }
+}
+
+fn emit_json(v: &serde_json::Value, target: &str, out: &mut dyn Write) -> Result<(), Failure> {
+    let text = serde_json::to_string_pretty(v).map_err(Failure::failed)? + "\n";
+    if target == "-" {
+        out.write_all(text.as_bytes())
+            .map_err(|e| Failure::failed(format!("writing to standard output: {e}")))
+    } else {
+        report::write_file(Path::new(target), &text).map_err(Failure::failed)
+    }
+}
+
+fn models(reg: &Registry, name: Option<&str>, out: &mut dyn Write) -> Result<(), Failure> {
+    let Some(name) = name else {
+        if reg.entries().is_empty() {
+            w(out, format_args!("no models registered\n"))?;
+        }
+        for m in reg.entries() {
+            let desc = m.description().split_whitespace().collect::<Vec<_>>().join(" ");
+            w(out, format_args!("{:<22} {}\n", m.name(), desc))?;
+        }
+        return Ok(());
+    };
+    let m = reg.get(name).map_err(Failure::from_error)?;
+    w(out, format_args!("model {}\n", m.name()))?;
+    if !m.description().is_empty() {
+        w(out, format_args!("  {}\n", m.description()))?;
+    }
+    w(out, format_args!("parameters (name = default: meaning):\n"))?;
+    for (i, p) in m.params_info().iter().enumerate() {
+        w(out, format_args!("  {:<6} = {:<12} {}\n", p.name, m.param_value(i), p.doc))?;
+    }
+    w(out, format_args!("dofs: {}\n", m.dofs().join(", ")))?;
+    w(
+        out,
+        format_args!(
+            "outputs: {}\n",
+            m.outputs().iter().map(|o| o.name).collect::<Vec<_>>().join(", ")
+        ),
+    )?;
+    if !m.equations().is_empty() {
+        w(out, format_args!("equations:\n"))?;
+        for e in m.equations() {
+            w(out, format_args!("  {e}\n"))?;
+        }
+    }
+    Ok(())
+}
+
+fn run(
+    reg: &Registry,
+    file: Option<&Path>,
+    dir: &Path,
+    out: &mut dyn Write,
+) -> Result<(), Failure> {
+    let (text, label) = match file {
+        Some(p) => (
+            std::fs::read_to_string(p).map_err(|source| {
+                Failure::usage(Error::Io { path: p.display().to_string(), source })
+            })?,
+            p.display().to_string(),
+        ),
+        None => (
+            study::REFERENCE_STUDY.to_string(),
+            "models/reference_study.toml (built in)".to_string(),
+        ),
+    };
+    let spec = study::parse(&text, &label).map_err(Failure::from_error)?;
+    spec.validate(reg).map_err(Failure::from_error)?;
+    let outcome = study::run(&spec, reg, dir).map_err(Failure::failed)?;
+    w(
+        out,
+        format_args!(
+            "{}: {} files written to {} in {:.1} s\n",
+            spec.title.as_deref().unwrap_or(&label),
+            outcome.files.len(),
+            dir.display(),
+            outcome.seconds
+        ),
+    )?;
+    for f in &outcome.files {
+        w(out, format_args!("  {}\n", f.display()))?;
+    }
+    if outcome.failures.is_empty() {
+        Ok(())
+    } else {
+        for f in &outcome.failures {
+            w(out, format_args!("FAILED: {f}\n"))?;
+        }
+        Err(Failure::failed(format!(
+            "{} part(s) of the study failed (first: {}); everything finished was written to {}",
+            outcome.failures.len(),
+            outcome.failures[0],
+            dir.display()
+        )))
+    }
+}

@@ -1,0 +1,170 @@
+//! The `ihbm` command line (CONTRACT section 2) and the [`Cli`] builder that gives a
+//! user crate the same command line for its own models.
+//!
+//! Exit status: 0 on success; 2 for bad input (unknown model or parameter, a value
+//! that does not parse or is out of range, a malformed study file); 1 when the
+//! computation itself failed (a solve that did not converge — its JSON is still
+//! written — or a study with failed parts, whose finished parts are still written).
+//! Every failure prints one line `error: ...` on standard error.
+
+pub mod args;
+mod commands;
+pub mod engine;
+pub mod progress;
+pub mod registry;
+
+use crate::model::Model;
+use clap::Parser;
+use registry::Registry;
+use std::ffi::OsString;
+use std::io::Write;
+use std::process::ExitCode;
+
+/// Exit status for bad input.
+pub const EXIT_USAGE: u8 = 2;
+/// Exit status for a computation that failed (non-converged solve, failed study parts).
+pub const EXIT_FAILED: u8 = 1;
+
+/// A failure of one command: the one-line reason and the exit status.
+#[derive(Debug)]
+pub struct Failure {
+    /// Exit status ([`EXIT_USAGE`] or [`EXIT_FAILED`]).
+    pub code: u8,
+    /// One line, without the `error: ` prefix.
+    pub message: String,
+}
+
+impl Failure {
+    fn usage(e: impl std::fmt::Display) -> Self {
+        Failure { code: EXIT_USAGE, message: e.to_string() }
+    }
+    fn failed(e: impl std::fmt::Display) -> Self {
+        Failure { code: EXIT_FAILED, message: e.to_string() }
+    }
+    /// Bad input for input errors, failure for the rest.
+    fn from_error(e: crate::Error) -> Self {
+        use crate::Error::*;
+        match e {
+            UnknownParameter { .. }
+            | UnknownOutput { .. }
+            | UnknownModel { .. }
+            | InvalidValue { .. }
+            | Study(_) => Failure::usage(e),
+            _ => Failure::failed(e),
+        }
+    }
+}
+
+/// The command line with a set of registered models.
+///
+/// ```no_run
+/// use ihbm::models::Duffing;
+/// fn main() -> std::process::ExitCode {
+///     ihbm::Cli::new().model::<Duffing>("my-duffing").run()
+/// }
+/// ```
+#[derive(Default)]
+pub struct Cli {
+    registry: Registry,
+}
+
+impl Cli {
+    /// A command line with no models.
+    pub fn new() -> Self {
+        Cli::default()
+    }
+
+    /// The `ihbm` binary's command line: every built-in model registered.
+    pub fn builtin() -> Self {
+        use crate::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
+        Cli::new()
+            .own_name::<QuarterCar>()
+            .own_name::<Duffing>()
+            .own_name::<FractionalDuffing>()
+            .own_name::<TwoMassChain>()
+            .own_name::<BaseExcited>()
+    }
+
+    /// Register `M::default()` under its own [`Model::name`].
+    pub fn own_name<M: Model + Default + Clone + 'static>(self) -> Self {
+        let name = M::default().name();
+        self.model::<M>(name)
+    }
+
+    /// Register `M::default()` under `name`.
+    pub fn model<M: Model + Default + Clone + 'static>(mut self, name: &str) -> Self {
+        self.registry.add::<M>(name);
+        self
+    }
+
+    /// The registered models.
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+
+    /// Parse `std::env::args()` and run the command.
+    pub fn run(&self) -> ExitCode {
+        self.run_from(std::env::args_os())
+    }
+
+    /// Run with explicit arguments (the first is the program name), writing to the
+    /// process's standard output and error.
+    pub fn run_from<I, T>(&self, args: I) -> ExitCode
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<OsString> + Clone,
+    {
+        let code =
+            self.run_with(args, &mut std::io::stdout().lock(), &mut std::io::stderr().lock());
+        ExitCode::from(code)
+    }
+
+    /// Run with explicit arguments and output streams; returns the exit status.
+    /// For tests and embedding: nothing is printed elsewhere (progress bars are
+    /// hidden when the process's streams are not terminals).
+    pub fn run_with<I, T>(&self, args: I, out: &mut dyn Write, err: &mut dyn Write) -> u8
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<OsString> + Clone,
+    {
+        let parsed = match args::Args::try_parse_from(args) {
+            Ok(a) => a,
+            Err(e) => {
+                use clap::error::ErrorKind;
+                return match e.kind() {
+                    ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                        let _ = write!(out, "{}", e.render());
+                        if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                            let _ = writeln!(err, "error: no command given (see --help)");
+                            EXIT_USAGE
+                        } else {
+                            0
+                        }
+                    }
+                    _ => {
+                        // clap's message may continue on indented lines (e.g. the
+                        // missing arguments); keep it, drop the usage, make it one line.
+                        let text = e.render().to_string();
+                        let line = text
+                            .lines()
+                            .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
+                            .map(str::trim)
+                            .collect::<Vec<_>>()
+                            .join(" ");
+                        let _ = writeln!(err, "{line} (see --help)");
+                        EXIT_USAGE
+                    }
+                };
+            }
+        };
+        match commands::execute(&self.registry, parsed.command, out) {
+            Ok(()) => 0,
+            Err(f) => {
+                let _ = writeln!(err, "error: {}", f.message.replace('\n', " "));
+                f.code
+            }
+        }
+    }
+}

@@ -1,0 +1,132 @@
+//! Models registered by name, behind an object-safe trait.
+//!
+//! [`Model`] is not object-safe (its residual is generic over dual numbers), so each
+//! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
+//! monomorphises solve, sweep and simulate for `M`.
+
+use super::engine::{self, SimSettings, SolveSettings, SweepSettings};
+use crate::error::{Error, Result};
+use crate::model::{Model, Output, ParamInfo};
+use crate::report::{SimRecord, SolveRecord};
+use crate::results::Curve;
+
+/// A registered model with its current parameter values, usable without its type.
+pub trait AnyModel: Send + Sync {
+    /// The registered name (the CLI's `NAME`).
+    fn name(&self) -> &str;
+    /// The model's description.
+    fn description(&self) -> &'static str;
+    /// Degrees of freedom.
+    fn dofs(&self) -> &'static [&'static str];
+    /// Declared parameters.
+    fn params_info(&self) -> &'static [ParamInfo];
+    /// Current value of parameter `i`.
+    fn param_value(&self, i: usize) -> f64;
+    /// Set a parameter by name (unknown names and non-finite values are errors).
+    fn set_param(&mut self, name: &str, value: f64) -> Result<()>;
+    /// Named outputs.
+    fn outputs(&self) -> &'static [Output];
+    /// Equations as text.
+    fn equations(&self) -> &'static [&'static str];
+    /// Solve at one frequency.
+    fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
+    /// Trace a frequency sweep.
+    fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve>;
+    /// Integrate in time.
+    fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
+    /// A copy with the same parameter values.
+    fn clone_box(&self) -> Box<dyn AnyModel>;
+}
+
+/// A model type `M` registered under a name.
+#[derive(Debug, Clone)]
+pub struct Registered<M> {
+    name: String,
+    model: M,
+}
+
+impl<M: Model + Clone + 'static> Registered<M> {
+    /// Wrap `model` under `name`.
+    pub fn new(name: &str, model: M) -> Self {
+        Registered { name: name.to_string(), model }
+    }
+}
+
+impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn description(&self) -> &'static str {
+        self.model.description()
+    }
+    fn dofs(&self) -> &'static [&'static str] {
+        self.model.dofs()
+    }
+    fn params_info(&self) -> &'static [ParamInfo] {
+        self.model.params_info()
+    }
+    fn param_value(&self, i: usize) -> f64 {
+        self.model.param_value(i)
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> Result<()> {
+        // Errors name the registered model, not the type's own name.
+        self.model.set_param(name, value).map_err(|e| match e {
+            Error::UnknownParameter { name, known, .. } => {
+                Error::UnknownParameter { name, model: self.name.clone(), known }
+            }
+            e => e,
+        })
+    }
+    fn outputs(&self) -> &'static [Output] {
+        self.model.outputs()
+    }
+    fn equations(&self) -> &'static [&'static str] {
+        self.model.equations()
+    }
+    fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
+        engine::solve(&self.name, &self.model, omega, s)
+    }
+    fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve> {
+        let mut c = engine::sweep(&self.name, &self.model, from, to, s)?;
+        c.model = self.name.clone();
+        Ok(c)
+    }
+    fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
+        engine::simulate(&self.name, &self.model, omega, s)
+    }
+    fn clone_box(&self) -> Box<dyn AnyModel> {
+        Box::new(self.clone())
+    }
+}
+
+/// The models a CLI knows, in registration order.
+#[derive(Default)]
+pub struct Registry {
+    entries: Vec<Box<dyn AnyModel>>,
+}
+
+impl Registry {
+    /// Register `M::default()` under `name` (a later registration of the same name
+    /// replaces the earlier one).
+    pub fn add<M: Model + Default + Clone + 'static>(&mut self, name: &str) {
+        self.entries.retain(|e| e.name() != name);
+        self.entries.push(Box::new(Registered::new(name, M::default())));
+    }
+
+    /// Registered names, in order.
+    pub fn names(&self) -> Vec<&str> {
+        self.entries.iter().map(|e| e.name()).collect()
+    }
+
+    /// All entries.
+    pub fn entries(&self) -> &[Box<dyn AnyModel>] {
+        &self.entries
+    }
+
+    /// A fresh copy (default parameters) of the model called `name`.
+    pub fn get(&self, name: &str) -> Result<Box<dyn AnyModel>> {
+        self.entries.iter().find(|e| e.name() == name).map(|e| e.clone_box()).ok_or_else(|| {
+            Error::UnknownModel { name: name.to_string(), known: self.names().join(", ") }
+        })
+    }
+}

@@ -1,0 +1,36 @@
+//! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...`.
+
+use crate::results::Curve;
+use std::fmt::Write;
+
+/// The CSV of a curve: a header, then one row per point in arc-length order
+/// (CONTRACT section 2). Numbers use Rust's shortest round-trip form.
+///
+/// ```
+/// use ihbm::results::{Curve, CurvePoint, CurveStats, PointOutput};
+/// let curve = Curve {
+///     model: "m".into(), harmonics: 1, parameter: "omega".into(),
+///     output_names: vec!["x".into()],
+///     points: vec![CurvePoint { omega: 2.0, param: 2.0, coeffs: vec![], stable: true,
+///         outputs: vec![PointOutput { max_abs: 0.5, mean: 0.0, amp1: 0.5 }], segment: 0 }],
+///     folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
+///     bifurcations: vec![], convergence: None };
+/// assert_eq!(ihbm::report::curve_csv(&curve),
+///            "omega,stable,x_max_abs,x_mean,x_amp1\n2,true,0.5,0,0.5\n");
+/// ```
+pub fn curve_csv(curve: &Curve) -> String {
+    let mut s = String::from("omega,stable");
+    for name in &curve.output_names {
+        // Writing to a String cannot fail.
+        let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
+    }
+    s.push('\n');
+    for p in &curve.points {
+        let _ = write!(s, "{},{}", p.omega, p.stable);
+        for o in &p.outputs {
+            let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
+        }
+        s.push('\n');
+    }
+    s
+}

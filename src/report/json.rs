@@ -1,0 +1,90 @@
+//! The JSON documents of CONTRACT section 2, field for field and in that order.
+
+use super::{SimRecord, SolveRecord};
+use crate::results::{Curve, PointOutput};
+use serde_json::{json, Map, Value};
+
+fn point_outputs(names: &[String], outs: &[PointOutput]) -> Value {
+    let mut m = Map::new();
+    for (name, o) in names.iter().zip(outs) {
+        m.insert(name.clone(), json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1 }));
+    }
+    Value::Object(m)
+}
+
+/// The JSON of `solve`: `{model, omega, harmonics, converged, iterations,
+/// residual_norm, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`.
+pub fn solve_json(r: &SolveRecord) -> Value {
+    let mut outs = Map::new();
+    for o in &r.outputs {
+        outs.insert(
+            o.name.clone(),
+            json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1,
+                    "cos": o.cos, "sin": o.sin }),
+        );
+    }
+    json!({
+        "model": r.model, "omega": r.omega, "harmonics": r.harmonics,
+        "converged": r.converged, "iterations": r.iterations,
+        "residual_norm": r.residual_norm, "stable": r.stable,
+        "outputs": Value::Object(outs),
+    })
+}
+
+/// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
+/// `parameter`, `stats` and `bifurcations` (extensions, after the contract's fields).
+pub fn sweep_json(c: &Curve) -> Value {
+    let points: Vec<Value> = c
+        .points
+        .iter()
+        .map(|p| {
+            json!({ "omega": p.omega, "stable": p.stable,
+                    "outputs": point_outputs(&c.output_names, &p.outputs) })
+        })
+        .collect();
+    let folds: Vec<Value> = c
+        .folds
+        .iter()
+        .map(|f| {
+            let mut m = Map::new();
+            for (name, o) in c.output_names.iter().zip(&f.outputs) {
+                m.insert(name.clone(), json!({ "max_abs": o.max_abs }));
+            }
+            json!({ "omega": f.omega, "outputs": Value::Object(m) })
+        })
+        .collect();
+    let jumps: Vec<Value> = c
+        .jumps
+        .iter()
+        .map(|j| {
+            json!({ "direction": j.direction, "omega": j.omega, "output": j.output,
+                    "from": j.from, "to": j.to })
+        })
+        .collect();
+    let segments: Vec<Value> = c
+        .segments
+        .iter()
+        .map(|s| {
+            json!({ "from_omega": s.from_omega, "to_omega": s.to_omega,
+                    "ended": s.ended.to_string() })
+        })
+        .collect();
+    json!({
+        "model": c.model, "harmonics": c.harmonics, "points": points,
+        "folds": folds, "jumps": jumps, "segments": segments,
+        "parameter": c.parameter, "stats": c.stats, "bifurcations": c.bifurcations,
+    })
+}
+
+/// The JSON of `simulate`: `{model, omega, dt, periods, scheme, outputs: {name:
+/// {max_abs, mean}}}`.
+pub fn simulate_json(r: &SimRecord) -> Value {
+    let mut outs = Map::new();
+    for o in &r.outputs {
+        outs.insert(o.name.clone(), json!({ "max_abs": o.max_abs, "mean": o.mean }));
+    }
+    json!({
+        "model": r.model, "omega": r.omega, "dt": r.dt, "periods": r.periods,
+        "scheme": r.scheme, "outputs": Value::Object(outs),
+    })
+}

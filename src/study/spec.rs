@@ -1,0 +1,424 @@
+//! The study file format (TOML) and its checks.
+//!
+//! ```toml
+//! title = "My study"
+//! model = "quarter-car"          # a registered model name
+//! harmonics = 5                  # default N for every curve
+//! unit = "Hz"                    # frequency axis of figures: "rad/s" (default) or "Hz"
+//! outputs = ["z1", "y"]          # panels of every figure (default: all outputs)
+//! frequency = { from = 1.0, to = 100.0 }   # rad/s
+//! params = { k3 = 3e6 }          # overrides for every figure
+//! labels = { z1 = "body displacement max|z1| (m)" }   # y-axis labels
+//! sweep = { max_step = 0.5, amplitude_bound = 1.0 }   # continuation settings
+//!
+//! [[figure]]
+//! id = "fig09"                   # file stem: fig09.svg, fig09_k3_1e6.csv, ...
+//! title = "Fig. 9: cubic stiffness"
+//! claim = "the resonance peak bends to the right as k3 grows"
+//! vary = "k3"                    # a parameter, or "harmonics"
+//! values = [1e6, 3e6, 5e6]       # one curve per value
+//! params = { F = 0.01 }          # figure overrides (after the study's)
+//! # harmonics, frequency, unit, outputs, sweep: as above, for this figure only
+//! timedomain = { omegas = [5.0, 8.0], schemes = ["gl", "bdf2"], periods = 100 }
+//!
+//! [[figure.check]]               # a claim checked against the curves
+//! kind = "peak_omega"            # peak | peak_omega | folds | converges | timedomain
+//! output = "z1"
+//! band = [1.0, 30.0]             # rad/s
+//! expect = "increasing"          # increasing | decreasing | unchanged | present | absent | agree
+//! ```
+//!
+//! Unknown keys and wrong types are errors naming the file, line and column.
+//! Time-domain points use the figure's parameters without the varied one.
+
+use crate::cli::engine::{SchemeName, SweepSettings};
+use crate::cli::registry::{AnyModel, Registry};
+use crate::error::{Error, Result};
+use crate::report::FreqUnit;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// A frequency range in rad/s.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Range {
+    /// Start, rad/s (> 0).
+    pub from: f64,
+    /// End, rad/s (> from).
+    pub to: f64,
+}
+
+/// Parameter overrides, with the spans of their names for error messages.
+pub type Params = BTreeMap<Spanned<String>, f64>;
+
+/// A whole study.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Study {
+    /// Title for `summary.md`.
+    pub title: Option<String>,
+    /// Registered model name.
+    pub model: Spanned<String>,
+    /// Default number of harmonics.
+    #[serde(default = "default_harmonics")]
+    pub harmonics: usize,
+    /// Default frequency-axis unit.
+    #[serde(default)]
+    pub unit: FreqUnit,
+    /// Default frequency range, rad/s.
+    pub frequency: Range,
+    /// Parameter overrides for every figure.
+    #[serde(default)]
+    pub params: Params,
+    /// Default panels (output names); empty: every output.
+    #[serde(default)]
+    pub outputs: Vec<Spanned<String>>,
+    /// Y-axis labels by output name.
+    #[serde(default)]
+    pub labels: BTreeMap<String, String>,
+    /// Default continuation settings.
+    #[serde(default)]
+    pub sweep: SweepSettings,
+    /// The figures.
+    #[serde(default, rename = "figure")]
+    pub figures: Vec<FigureSpec>,
+    /// File name and text, for error locations (set by [`parse`]).
+    #[serde(skip)]
+    pub source: Option<(String, String)>,
+}
+
+fn default_harmonics() -> usize {
+    5
+}
+
+/// One figure: a family of curves varying one parameter (or N), with its claims.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureSpec {
+    /// File stem (letters, digits, `_`, `-`).
+    pub id: Spanned<String>,
+    /// Figure title.
+    pub title: Option<String>,
+    /// The paper's qualitative claim, quoted in `summary.md`.
+    pub claim: Option<String>,
+    /// The parameter varied over `values`, or `"harmonics"`.
+    pub vary: Option<Spanned<String>>,
+    /// Values of `vary`, one curve each.
+    #[serde(default)]
+    pub values: Vec<f64>,
+    /// Figure overrides (applied after the study's).
+    #[serde(default)]
+    pub params: Params,
+    /// Number of harmonics for this figure.
+    pub harmonics: Option<usize>,
+    /// Frequency range for this figure.
+    pub frequency: Option<Range>,
+    /// Frequency-axis unit for this figure.
+    pub unit: Option<FreqUnit>,
+    /// Panels for this figure.
+    pub outputs: Option<Vec<Spanned<String>>>,
+    /// Continuation settings for this figure (field-wise over the study's).
+    pub sweep: Option<SweepSettings>,
+    /// Time-domain comparison points.
+    pub timedomain: Option<TimeDomainSpec>,
+    /// Claims checked against the results.
+    #[serde(default, rename = "check")]
+    pub checks: Vec<CheckSpec>,
+}
+
+/// Time integrations to compare with the harmonic balance (paper Fig. 6).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeDomainSpec {
+    /// Forcing frequencies, rad/s.
+    pub omegas: Vec<f64>,
+    /// Schemes (default: both).
+    #[serde(default = "default_schemes")]
+    pub schemes: Vec<SchemeName>,
+    /// Forcing periods per run (default 100; at least `timedomain::MIN_PERIODS`).
+    pub periods: Option<usize>,
+    /// Steps per forcing period (default 200: the paper's step π/(100 Ω)).
+    pub steps_per_period: Option<f64>,
+}
+
+fn default_schemes() -> Vec<SchemeName> {
+    vec![SchemeName::Gl, SchemeName::Bdf2]
+}
+
+/// What a check measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CheckKind {
+    /// The peak `max_abs` of an output over a band, along the family.
+    Peak,
+    /// The frequency of that peak, along the family.
+    PeakOmega,
+    /// Whether folds (multi-valued regions) appear in the band.
+    Folds,
+    /// Relative change of the peak between successive curves (harmonic convergence).
+    Converges,
+    /// Harmonic balance vs time integration at the time-domain points.
+    Timedomain,
+}
+
+/// The claimed behaviour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Expect {
+    /// Grows along the family.
+    Increasing,
+    /// Falls along the family.
+    Decreasing,
+    /// Changes by at most `tol` relative.
+    Unchanged,
+    /// Present (folds) — on every curve, or from `from_value` on.
+    Present,
+    /// Absent (folds) on every curve.
+    Absent,
+    /// Agreement within `tol` (time domain).
+    Agree,
+}
+
+/// A claim checked against the curves of a figure.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckSpec {
+    /// What is measured.
+    pub kind: CheckKind,
+    /// The claimed behaviour.
+    pub expect: Expect,
+    /// Output (default: the figure's first panel).
+    pub output: Option<String>,
+    /// Frequency band, rad/s (default: the whole range).
+    pub band: Option<[f64; 2]>,
+    /// Relative tolerance: `unchanged` trends (default 0.02), `agree` (0.05), and
+    /// `converges` (1e-5: the largest change that counts as converged).
+    pub tol: Option<f64>,
+    /// For `folds`/`present`: the family value from which folds are claimed.
+    pub from_value: Option<f64>,
+}
+
+/// 1-based line and column of byte offset `at` in `text`.
+pub fn line_col(text: &str, at: usize) -> (usize, usize) {
+    let at = at.min(text.len());
+    let before = text.get(..at).unwrap_or(text);
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+/// Parse a study; `file` names it in error messages (`file:line:col: message`).
+pub fn parse(text: &str, file: &str) -> Result<Study> {
+    toml::from_str::<Study>(text)
+        .map_err(|e| {
+            let msg = e.message().trim().replace('\n', " ");
+            match e.span() {
+                Some(span) => {
+                    let (l, c) = line_col(text, span.start);
+                    Error::Study(format!("{file}:{l}:{c}: {msg}"))
+                }
+                None => Error::Study(format!("{file}: {msg}")),
+            }
+        })
+        .map(|mut s| {
+            s.source = Some((file.to_string(), text.to_string()));
+            s
+        })
+}
+
+impl Study {
+    /// `file:line:col: msg` for a span of the source.
+    fn at(&self, span: std::ops::Range<usize>, msg: impl std::fmt::Display) -> Error {
+        match &self.source {
+            Some((file, text)) => {
+                let (l, c) = line_col(text, span.start);
+                Error::Study(format!("{file}:{l}:{c}: {msg}"))
+            }
+            None => Error::Study(msg.to_string()),
+        }
+    }
+
+    /// `file: msg`.
+    fn whole(&self, msg: impl std::fmt::Display) -> Error {
+        match &self.source {
+            Some((file, _)) => Error::Study(format!("{file}: {msg}")),
+            None => Error::Study(msg.to_string()),
+        }
+    }
+
+    /// The study's model with the study-level overrides applied.
+    pub fn base_model(&self, reg: &Registry) -> Result<Box<dyn AnyModel>> {
+        let mut m = reg.get(self.model.get_ref()).map_err(|e| self.at(self.model.span(), e))?;
+        apply(self, m.as_mut(), &self.params)?;
+        Ok(m)
+    }
+
+    /// Check everything that can be checked without solving: names, ranges, counts.
+    /// Errors point at the offending value (`file:line:col`).
+    pub fn validate(&self, reg: &Registry) -> Result<()> {
+        let base = self.base_model(reg)?;
+        self.check_harmonics(self.harmonics, None)?;
+        self.check_range(&self.frequency, "frequency")?;
+        check_outputs(self, base.as_ref(), &self.outputs)?;
+        let mut ids: Vec<&str> = Vec::new();
+        for fig in &self.figures {
+            let id = fig.id.get_ref();
+            if id.is_empty()
+                || !id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+            {
+                return Err(self.at(
+                    fig.id.span(),
+                    format!("figure id '{id}' must be letters, digits, '_' or '-'"),
+                ));
+            }
+            if ids.contains(&id.as_str()) {
+                return Err(self.at(fig.id.span(), format!("figure id '{id}' is used twice")));
+            }
+            ids.push(id);
+            let mut m = base.clone_box();
+            apply(self, m.as_mut(), &fig.params)?;
+            if let Some(n) = fig.harmonics {
+                self.check_harmonics(n, Some(id))?;
+            }
+            if let Some(r) = &fig.frequency {
+                self.check_range(r, &format!("figure '{id}': frequency"))?;
+            }
+            if let Some(outs) = &fig.outputs {
+                check_outputs(self, m.as_ref(), outs)?;
+            }
+            match &fig.vary {
+                None if !fig.values.is_empty() => {
+                    return Err(self.at(
+                        fig.id.span(),
+                        format!("figure '{id}': 'values' given without 'vary'"),
+                    ));
+                }
+                None => {}
+                Some(v) => {
+                    if fig.values.is_empty() {
+                        return Err(self.at(
+                            v.span(),
+                            format!(
+                                "figure '{id}': 'vary = \"{}\"' needs a non-empty 'values' list",
+                                v.get_ref()
+                            ),
+                        ));
+                    }
+                    for &x in &fig.values {
+                        if v.get_ref() == "harmonics" {
+                            if !(x >= 1.0 && x.fract() == 0.0 && x <= 1000.0) {
+                                return Err(self.at(
+                                    v.span(),
+                                    format!(
+                                        "figure '{id}': harmonics value {x} is not an integer >= 1"
+                                    ),
+                                ));
+                            }
+                        } else {
+                            m.clone_box()
+                                .set_param(v.get_ref(), x)
+                                .map_err(|e| self.at(v.span(), format!("figure '{id}': {e}")))?;
+                        }
+                    }
+                }
+            }
+            if let Some(td) = &fig.timedomain {
+                if td.omegas.is_empty() || td.schemes.is_empty() {
+                    return Err(self.whole(format!(
+                        "figure '{id}': timedomain needs non-empty 'omegas' and 'schemes'"
+                    )));
+                }
+                for &w in &td.omegas {
+                    if !(w.is_finite() && w > 0.0) {
+                        return Err(self.whole(format!(
+                            "figure '{id}': timedomain omega {w} must be > 0 rad/s"
+                        )));
+                    }
+                }
+                let min = crate::timedomain::MIN_PERIODS;
+                if td.periods.is_some_and(|p| p < min) {
+                    return Err(
+                        self.whole(format!("figure '{id}': timedomain periods must be >= {min}"))
+                    );
+                }
+                let min_steps = crate::timedomain::MIN_STEPS_PER_PERIOD;
+                if td.steps_per_period.is_some_and(|s| !(s.is_finite() && s >= min_steps)) {
+                    return Err(self.whole(format!(
+                        "figure '{id}': timedomain steps_per_period must be >= {min_steps}"
+                    )));
+                }
+            }
+            for c in &fig.checks {
+                if let Some(o) = &c.output {
+                    m.outputs().iter().find(|x| x.name == o).ok_or_else(|| {
+                        self.whole(format!(
+                            "figure '{id}': check output '{o}' is not an output of model '{}'",
+                            m.name()
+                        ))
+                    })?;
+                }
+                if let Some([lo, hi]) = c.band {
+                    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                        return Err(self.whole(format!(
+                            "figure '{id}': check band [{lo}, {hi}] must have lo < hi"
+                        )));
+                    }
+                }
+                if c.tol.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+                    return Err(self.whole(format!("figure '{id}': check tol must be > 0")));
+                }
+                if c.kind == CheckKind::Timedomain && fig.timedomain.is_none() {
+                    return Err(self.whole(format!(
+                        "figure '{id}': a 'timedomain' check needs a 'timedomain' table"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_harmonics(&self, n: usize, fig: Option<&str>) -> Result<()> {
+        if n == 0 || n > 1000 {
+            let what = fig.map_or(String::new(), |f| format!("figure '{f}': "));
+            return Err(self.whole(format!("{what}harmonics = {n} (expected N >= 1)")));
+        }
+        Ok(())
+    }
+
+    fn check_range(&self, r: &Range, what: &str) -> Result<()> {
+        if !(r.from.is_finite() && r.to.is_finite() && r.from > 0.0 && r.from < r.to) {
+            return Err(self.whole(format!(
+                "{what} from {} to {}: expected 0 < from < to (rad/s)",
+                r.from, r.to
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Apply overrides, errors pointing at the parameter name.
+pub(crate) fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Result<()> {
+    for (k, &v) in params {
+        m.set_param(k.get_ref(), v).map_err(|e| study.at(k.span(), e))?;
+    }
+    Ok(())
+}
+
+fn check_outputs(study: &Study, m: &dyn AnyModel, outs: &[Spanned<String>]) -> Result<()> {
+    for o in outs {
+        if !m.outputs().iter().any(|x| x.name == o.get_ref()) {
+            let known: Vec<&str> = m.outputs().iter().map(|x| x.name).collect();
+            return Err(study.at(
+                o.span(),
+                format!(
+                    "unknown output '{}' for model '{}' (known: {})",
+                    o.get_ref(),
+                    m.name(),
+                    known.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(())
+}

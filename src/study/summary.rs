@@ -1,0 +1,129 @@
+//! `summary.md`: per figure the paper's claim next to what we found, per curve the
+//! peaks and folds, and every failed part.
+
+use super::claims::{evaluate, Member, TdRow};
+use super::runner::StudyOutcome;
+use super::spec::{FigureSpec, Study};
+use crate::report::curve_facts;
+use std::fmt::Write;
+
+/// What one figure produced (input of [`markdown`]).
+pub struct FigureResult<'a> {
+    /// Its specification (claims and checks).
+    pub spec: &'a FigureSpec,
+    /// Title.
+    pub title: String,
+    /// Panel outputs.
+    pub outputs: Vec<String>,
+    /// Harmonics of the time-domain solves.
+    pub harmonics: usize,
+    /// Frequency range, rad/s.
+    pub range: (f64, f64),
+    /// The curves that finished.
+    pub members: Vec<Member<'a>>,
+    /// Labels of curves that failed.
+    pub missing: Vec<String>,
+    /// Time-domain comparisons.
+    pub td_rows: Vec<TdRow>,
+    /// Compute time, s.
+    pub seconds: f64,
+}
+
+/// The Markdown text of `summary.md`.
+pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> String {
+    let mut s = String::new();
+    let title = study.title.as_deref().unwrap_or("Study");
+    let _ = writeln!(s, "# {title}\n");
+    let _ = writeln!(
+        s,
+        "Model `{}`, N = {} unless stated, Ω from {} to {} rad/s. Wall time {:.1} s. Amplitudes are \
+         max |x(t)| over one period (m). \"Stable\" means no growing mode was found (Hill's method); \
+         folds are turning points of the traced curve.\n",
+        study.model.get_ref(),
+        study.harmonics,
+        study.frequency.from,
+        study.frequency.to,
+        out.seconds
+    );
+    if out.failures.is_empty() {
+        let _ = writeln!(s, "Every part of the study finished.\n");
+    } else {
+        let _ = writeln!(
+            s,
+            "**{} part(s) failed** (everything else was written):\n",
+            out.failures.len()
+        );
+        for f in &out.failures {
+            let _ = writeln!(s, "- {f}");
+        }
+        s.push('\n');
+    }
+    let (mut agree, mut disagree, mut inconclusive) = (0, 0, 0);
+    for fig in figs {
+        let _ = writeln!(s, "## {} (`{}`)\n", fig.title, fig.spec.id.get_ref());
+        if let Some(claim) = &fig.spec.claim {
+            let _ = writeln!(s, "**Paper:** {claim}\n");
+        }
+        let _ = writeln!(s, "| curve | output | peak max\\|x\\| | at Ω (rad/s) | folds at Ω (rad/s) | unstable points | ends |");
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+        for m in &fig.members {
+            let ends =
+                m.curve.segments.iter().map(|e| e.ended.to_string()).collect::<Vec<_>>().join(", ");
+            for o in &fig.outputs {
+                if let Some(f) = curve_facts(m.curve, o, None) {
+                    let folds = if f.folds.is_empty() {
+                        "none".to_string()
+                    } else {
+                        f.folds.iter().map(|w| format!("{w:.4}")).collect::<Vec<_>>().join(", ")
+                    };
+                    let _ = writeln!(
+                        s,
+                        "| {} | {o} | {:.4e} | {:.3} | {folds} | {} | {ends} |",
+                        m.label, f.peak, f.peak_omega, f.unstable_points
+                    );
+                }
+            }
+        }
+        for l in &fig.missing {
+            let _ = writeln!(s, "| {l} | — | failed | | | | |");
+        }
+        s.push('\n');
+        if !fig.td_rows.is_empty() {
+            let _ = writeln!(s, "Time integration vs IHBM (N = {}):\n", fig.harmonics);
+            let _ = writeln!(
+                s,
+                "| Ω (rad/s) | scheme | output | IHBM | time integration | rel. diff |"
+            );
+            let _ = writeln!(s, "|---|---|---|---|---|---|");
+            for r in &fig.td_rows {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {} | {:.5e} | {:.5e} | {:.2e} |",
+                    r.omega,
+                    r.scheme,
+                    r.output,
+                    r.ihbm,
+                    r.sim,
+                    r.rel_diff()
+                );
+            }
+            s.push('\n');
+        }
+        let first = fig.outputs.first().map(String::as_str).unwrap_or("");
+        for c in &fig.spec.checks {
+            let (v, found) = evaluate(c, &fig.members, &fig.td_rows, first);
+            match v {
+                super::claims::Verdict::Agree => agree += 1,
+                super::claims::Verdict::Disagree => disagree += 1,
+                super::claims::Verdict::Inconclusive => inconclusive += 1,
+            }
+            let _ = writeln!(s, "- claim ({:?}, expect {:?}): **{v}** — {found}", c.kind, c.expect);
+        }
+        let _ = writeln!(s, "\nCompute time {:.2} s (summed over jobs).\n", fig.seconds);
+    }
+    let _ = writeln!(
+        s,
+        "## Verdicts\n\n{agree} agree, {disagree} disagree, {inconclusive} inconclusive."
+    );
+    s
+}

@@ -1,0 +1,366 @@
+//! End-to-end tests of the `ihbm` binary: every command on good input, every bad-input
+//! class, and the JSON documents field for field (CONTRACT section 2).
+
+use num_complex::Complex64;
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn ihbm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ihbm")).args(args).output().expect("the ihbm binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ihbm-cli-tests-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Keys of a JSON object, in order.
+fn keys(v: &Value) -> Vec<&str> {
+    v.as_object()
+        .unwrap_or_else(|| panic!("not an object: {v}"))
+        .keys()
+        .map(|k| k.as_str())
+        .collect()
+}
+
+/// |Z1/F|, |Y/F| of the linear quarter car (ERRATA.md closed form), Table 1 values.
+fn linear_qc(omega: f64) -> (f64, f64) {
+    let (m1, m2, k1, kt, c, h, p) = (240.0, 30.0, 16_000.0, 160_000.0, 1_000.0, 1_000.0, 0.5);
+    let iw = Complex64::new(0.0, omega);
+    let g = k1 + iw * c + h * iw.powf(p);
+    let delta = m1 * m2 * omega.powi(4) - (kt * m1 + (m1 + m2) * g) * omega * omega + kt * g;
+    ((kt * g / delta).norm(), (kt * m1 * omega * omega / delta).norm())
+}
+
+/// A bad input: non-zero exit, one line on stderr that contains every `needle`.
+fn assert_rejected(args: &[&str], needles: &[&str]) {
+    let o = ihbm(args);
+    assert!(!o.status.success(), "{args:?} succeeded: {}", stdout(&o));
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{args:?}: stderr does not name '{n}': {err}");
+    }
+}
+
+#[test]
+fn models_lists_the_builtin_models_and_shows_one() {
+    let o = ihbm(&["models"]);
+    assert!(o.status.success());
+    let s = stdout(&o);
+    for m in ["quarter-car", "duffing", "fractional-duffing"] {
+        assert!(s.lines().any(|l| l.split_whitespace().next() == Some(m)), "{m} missing: {s}");
+    }
+    let o = ihbm(&["models", "quarter-car"]);
+    assert!(o.status.success());
+    let s = stdout(&o);
+    for p in ["m1", "m2", "k1", "k3", "kt", "c", "h", "p", "F", "z1", "y", "240", "160000"] {
+        assert!(s.contains(p), "{p} missing: {s}");
+    }
+    let o = ihbm(&["models", "fractional-duffing"]);
+    let s = stdout(&o);
+    for p in ["m ", "c ", "k ", "k3", "h ", "p ", "F "] {
+        assert!(s.contains(p), "{p} missing: {s}");
+    }
+}
+
+#[test]
+fn help_on_every_command() {
+    for args in [
+        vec!["--help"],
+        vec!["models", "--help"],
+        vec!["solve", "--help"],
+        vec!["sweep", "--help"],
+        vec!["simulate", "--help"],
+        vec!["run", "--help"],
+    ] {
+        let o = ihbm(&args);
+        assert!(o.status.success(), "{args:?}");
+        assert!(stdout(&o).contains("Usage"), "{args:?}: {}", stdout(&o));
+    }
+}
+
+#[test]
+fn solve_json_matches_the_contract_and_the_linear_closed_form() {
+    // k3 = 0: the model is linear, |Z1| = F |Z1/F| (ERRATA.md), a single harmonic.
+    let o = ihbm(&["solve", "quarter-car", "--omega", "8", "--set", "k3=0", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(
+        keys(&v),
+        [
+            "model",
+            "omega",
+            "harmonics",
+            "converged",
+            "iterations",
+            "residual_norm",
+            "stable",
+            "outputs"
+        ]
+    );
+    assert_eq!(v["model"], "quarter-car");
+    assert_eq!(v["omega"].as_f64(), Some(8.0));
+    assert_eq!(v["harmonics"].as_u64(), Some(5));
+    assert_eq!(v["converged"], true);
+    assert!(v["iterations"].is_u64());
+    assert!(v["residual_norm"].as_f64().unwrap() >= 0.0);
+    // A damped linear system: every periodic solution is asymptotically stable.
+    assert_eq!(v["stable"], true);
+    assert_eq!(keys(&v["outputs"]), ["z1", "z2", "y"]);
+    for out in ["z1", "z2", "y"] {
+        let o = &v["outputs"][out];
+        assert_eq!(keys(o), ["max_abs", "mean", "amp1", "cos", "sin"]);
+        let cos = o["cos"].as_array().unwrap();
+        let sin = o["sin"].as_array().unwrap();
+        assert_eq!((cos.len(), sin.len()), (6, 6));
+        assert_eq!(sin[0].as_f64(), Some(0.0));
+        assert_eq!(o["mean"], cos[0]);
+        let (a1, b1) = (cos[1].as_f64().unwrap(), sin[1].as_f64().unwrap());
+        assert!((o["amp1"].as_f64().unwrap() - a1.hypot(b1)).abs() <= 1e-15);
+    }
+    let (z1, y) = linear_qc(8.0);
+    let got_z1 = v["outputs"]["z1"]["max_abs"].as_f64().unwrap();
+    let got_y = v["outputs"]["y"]["max_abs"].as_f64().unwrap();
+    assert!((got_z1 - 0.01 * z1).abs() < 1e-8 * z1, "{got_z1} vs {}", 0.01 * z1);
+    assert!((got_y - 0.01 * y).abs() < 1e-8 * y, "{got_y} vs {}", 0.01 * y);
+}
+
+#[test]
+fn solve_json_to_a_file_and_human_output() {
+    let path = tmp("solve.json");
+    let o = ihbm(&[
+        "solve",
+        "duffing",
+        "--omega",
+        "2.5",
+        "--harmonics",
+        "3",
+        "--json",
+        path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(v["harmonics"].as_u64(), Some(3));
+    assert_eq!(v["outputs"]["x"]["cos"].as_array().unwrap().len(), 4);
+    let o = ihbm(&["solve", "quarter-car", "--omega", "8"]);
+    assert!(o.status.success());
+    assert!(stdout(&o).contains("z1"), "{}", stdout(&o));
+}
+
+#[test]
+fn non_converged_solve_writes_json_and_fails() {
+    // A nearly undamped, strongly forced Duffing oscillator from the linear guess.
+    let path = tmp("nc.json");
+    let args = [
+        "solve",
+        "duffing",
+        "--omega",
+        "3",
+        "--set",
+        "k3=100",
+        "--set",
+        "c=0.001",
+        "--set",
+        "F=100",
+        "--json",
+        path.to_str().unwrap(),
+    ];
+    let o = ihbm(&args);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("did not converge"), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(v["converged"], false);
+    assert_eq!(keys(&v)[3], "converged");
+}
+
+#[test]
+fn bad_inputs_fail_with_a_reason() {
+    assert_rejected(
+        &["solve", "no-such-model", "--omega", "8"],
+        &["unknown model", "no-such-model", "quarter-car"],
+    );
+    assert_rejected(
+        &["solve", "quarter-car", "--omega", "8", "--set", "k4=1"],
+        &["unknown parameter", "k4"],
+    );
+    assert_rejected(&["solve", "quarter-car", "--omega", "8", "--set", "k3=abc"], &["abc", "k3"]);
+    assert_rejected(&["solve", "quarter-car", "--omega", "8", "--set", "k3"], &["k3", "P=V"]);
+    assert_rejected(&["solve", "quarter-car", "--omega", "eight"], &["eight", "--omega"]);
+    assert_rejected(
+        &["solve", "quarter-car", "--omega", "8", "--harmonics", "0"],
+        &["harmonics", "0"],
+    );
+    assert_rejected(&["solve", "quarter-car", "--omega", "8", "--harmonics", "-3"], &["-3"]);
+    assert_rejected(&["solve", "quarter-car", "--omega", "0"], &["omega", "0"]);
+    assert_rejected(&["solve", "quarter-car", "--omega", "-2"], &["omega", "-2"]);
+    assert_rejected(&["solve", "quarter-car", "--omega", "NaN"], &["omega", "NaN"]);
+    assert_rejected(&["solve", "quarter-car"], &["--omega"]);
+    assert_rejected(&["sweep", "quarter-car", "--from", "10", "--to", "5"], &["from", "10", "5"]);
+    assert_rejected(&["sweep", "quarter-car", "--from", "5", "--to", "5"], &["from"]);
+    assert_rejected(&["sweep", "quarter-car", "--from", "0", "--to", "5"], &["from", "0"]);
+    assert_rejected(&["sweep", "nope", "--from", "1", "--to", "5"], &["unknown model", "nope"]);
+    assert_rejected(
+        &["sweep", "quarter-car", "--from", "1", "--to", "5", "--harmonics", "0"],
+        &["harmonics"],
+    );
+    assert_rejected(
+        &["simulate", "quarter-car", "--omega", "8", "--scheme", "rk4"],
+        &["rk4", "scheme"],
+    );
+    assert_rejected(&["simulate", "quarter-car", "--omega", "8", "--dt", "-1"], &["dt", "-1"]);
+    assert_rejected(
+        &["simulate", "quarter-car", "--omega", "8", "--periods", "3"],
+        &["periods", "3"],
+    );
+    assert_rejected(
+        &["simulate", "quarter-car", "--omega", "8", "--set", "m9=1"],
+        &["unknown parameter", "m9"],
+    );
+    assert_rejected(&["models", "nope"], &["unknown model", "nope"]);
+    assert_rejected(&["frobnicate"], &["frobnicate"]);
+    assert_rejected(&[], &["no command"]);
+    assert_rejected(&["run", "/definitely/not/here.toml"], &["/definitely/not/here.toml"]);
+}
+
+#[test]
+fn malformed_study_files_name_file_line_and_column() {
+    let cases: [(&str, &[&str]); 5] = [
+        ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\nbogus = 3\n", &[":3:1:", "bogus"]),
+        ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = \"x\" }\n", &[":2:32:", "invalid type"]),
+        ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 \n", &[":2:"]),
+        ("model = \"nope\"\nfrequency = { from = 1.0, to = 2.0 }\n", &[":1:9:", "unknown model", "nope"]),
+        (
+            "model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\n[[figure]]\nid = \"a\"\nparams = { k9 = 1.0 }\n",
+            &[":5:12:", "unknown parameter", "k9"],
+        ),
+    ];
+    for (i, (text, needles)) in cases.iter().enumerate() {
+        let path = tmp(&format!("bad{i}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let mut n = vec![path.to_str().unwrap()];
+        n.extend_from_slice(needles);
+        assert_rejected(
+            &["run", path.to_str().unwrap(), "--out", tmp("bad_out").to_str().unwrap()],
+            &n,
+        );
+    }
+}
+
+#[test]
+fn sweep_writes_contract_json_csv_and_plot() {
+    // A hardening Duffing oscillator (backbone bends right): two folds, a jump each way.
+    let (csv, svg) = (tmp("duffing.csv"), tmp("duffing.svg"));
+    let o = ihbm(&[
+        "sweep",
+        "duffing",
+        "--from",
+        "0.5",
+        "--to",
+        "2.5",
+        "--harmonics",
+        "1",
+        "--set",
+        "c=0.05",
+        "--set",
+        "F=0.2",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(&keys(&v)[..6], ["model", "harmonics", "points", "folds", "jumps", "segments"]);
+    assert_eq!(v["model"], "duffing");
+    assert_eq!(v["harmonics"].as_u64(), Some(1));
+    let points = v["points"].as_array().unwrap();
+    for p in points {
+        assert_eq!(keys(p), ["omega", "stable", "outputs"]);
+        assert!(p["stable"].is_boolean());
+        assert_eq!(keys(&p["outputs"]), ["x"]);
+        assert_eq!(keys(&p["outputs"]["x"]), ["max_abs", "mean", "amp1"]);
+    }
+    let folds = v["folds"].as_array().unwrap();
+    assert_eq!(folds.len(), 2, "{}", v["folds"]);
+    for f in folds {
+        assert_eq!(keys(f), ["omega", "outputs"]);
+        assert_eq!(keys(&f["outputs"]["x"]), ["max_abs"]);
+    }
+    let jumps = v["jumps"].as_array().unwrap();
+    assert!(
+        jumps.iter().any(|j| j["direction"] == "up")
+            && jumps.iter().any(|j| j["direction"] == "down")
+    );
+    for j in jumps {
+        assert_eq!(keys(j), ["direction", "omega", "output", "from", "to"]);
+    }
+    for s in v["segments"].as_array().unwrap() {
+        assert_eq!(keys(s), ["from_omega", "to_omega", "ended"]);
+    }
+    // The middle branch between the folds is unstable (a saddle).
+    assert!(points.iter().any(|p| p["stable"] == false));
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(csv.lines().next(), Some("omega,stable,x_max_abs,x_mean,x_amp1"));
+    assert_eq!(csv.lines().count(), 1 + points.len());
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    roxmltree::Document::parse(&svg).unwrap();
+}
+
+#[test]
+fn simulate_json_matches_the_contract_and_the_closed_form() {
+    // Linear quarter car (k3 = 0) from rest: after 200 periods the steady amplitude is
+    // the closed-form one (ERRATA.md) up to the scheme's error and the t^-p transient.
+    let o = ihbm(&[
+        "simulate",
+        "quarter-car",
+        "--omega",
+        "8",
+        "--set",
+        "k3=0",
+        "--periods",
+        "200",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(keys(&v), ["model", "omega", "dt", "periods", "scheme", "outputs"]);
+    assert_eq!(v["scheme"], "bdf2");
+    assert_eq!(v["periods"].as_u64(), Some(200));
+    assert!(v["dt"].as_f64().unwrap() > 0.0);
+    assert_eq!(keys(&v["outputs"]), ["z1", "z2", "y"]);
+    for out in ["z1", "z2", "y"] {
+        assert_eq!(keys(&v["outputs"][out]), ["max_abs", "mean"]);
+    }
+    let (z1, _) = linear_qc(8.0);
+    let got = v["outputs"]["z1"]["max_abs"].as_f64().unwrap();
+    assert!((got - 0.01 * z1).abs() < 1e-3 * 0.01 * z1, "{got} vs {}", 0.01 * z1);
+    let path = tmp("sim.json");
+    let o = ihbm(&[
+        "simulate",
+        "duffing",
+        "--omega",
+        "2",
+        "--scheme",
+        "gl",
+        "--periods",
+        "40",
+        "--json",
+        path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(v["scheme"], "gl");
+}

@@ -1,0 +1,209 @@
+//! The reference study: it encodes the paper's section 4 (values read off the paper's
+//! text, not our output), it runs, and every file it writes exists and parses.
+
+use ihbm::study::claims::fmt_num;
+use ihbm::{study, Cli};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ihbm-study-tests-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// (figure id, varied quantity, values) as printed in the paper's section 4 and ERRATA.md.
+fn paper() -> Vec<(&'static str, Option<&'static str>, Vec<f64>)> {
+    vec![
+        ("fig04_harmonics", Some("harmonics"), vec![4.0, 5.0, 6.0]),
+        ("fig06_time_domain", None, vec![]),
+        ("fig07_order", Some("p"), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]),
+        ("fig08_coefficient", Some("h"), vec![500.0, 1000.0, 1500.0, 2000.0]),
+        ("fig09_cubic_stiffness", Some("k3"), vec![1e6, 2e6, 3e6, 4e6, 5e6]),
+        ("fig10_road_amplitude", Some("F"), vec![0.006, 0.008, 0.01]),
+        ("fig11_body_mass", Some("m1"), vec![200.0, 220.0, 240.0, 260.0, 280.0]),
+        ("fig12_wheel_mass", Some("m2"), vec![30.0, 40.0, 50.0, 60.0, 70.0]),
+        ("fig_jumps", Some("F"), vec![0.02, 0.025, 0.03]),
+    ]
+}
+
+#[test]
+fn reference_study_encodes_the_papers_figures() {
+    let s = study::parse(study::REFERENCE_STUDY, "reference").unwrap();
+    s.validate(Cli::builtin().registry()).unwrap();
+    assert_eq!(s.model.get_ref(), "quarter-car");
+    assert_eq!((s.frequency.from, s.frequency.to), (1.0, 100.0));
+    assert_eq!(s.harmonics, 5);
+    let outs: Vec<&str> = s.outputs.iter().map(|o| o.get_ref().as_str()).collect();
+    assert_eq!(outs, ["z1", "y"], "two panels: body displacement and suspension deflection");
+    let ids: Vec<&str> = s.figures.iter().map(|f| f.id.get_ref().as_str()).collect();
+    let expected = paper();
+    assert_eq!(ids, expected.iter().map(|e| e.0).collect::<Vec<_>>());
+    for (fig, (id, vary, values)) in s.figures.iter().zip(&expected) {
+        assert_eq!(fig.vary.as_ref().map(|v| v.get_ref().as_str()), *vary, "{id}");
+        assert_eq!(&fig.values, values, "{id}");
+        assert!(fig.claim.is_some(), "{id} quotes the paper's claim");
+        assert!(!fig.checks.is_empty(), "{id} checks its claim");
+    }
+    let param = |id: &str, p: &str| {
+        let f = s.figures.iter().find(|f| f.id.get_ref() == id).unwrap();
+        f.params.iter().find(|(k, _)| k.get_ref() == p).map(|(_, v)| *v)
+    };
+    // Section 4.3: k3 = 3000 kN/m for Figs. 10 and 11.
+    assert_eq!(param("fig10_road_amplitude", "k3"), Some(3e6));
+    assert_eq!(param("fig11_body_mass", "k3"), Some(3e6));
+    // The paper's time integration: GL with the step π/(100 Ω) = 200 steps per period,
+    // and the second-order rule.
+    let td = s.figures[1].timedomain.as_ref().unwrap();
+    assert_eq!(td.steps_per_period, Some(200.0));
+    assert_eq!(td.schemes.len(), 2);
+}
+
+fn svg_texts(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text)
+        .unwrap_or_else(|e| panic!("{}: not XML: {e}", path.display()));
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or("").trim().to_string())
+        .collect()
+}
+
+fn check_curve_files(dir: &Path, stem: &str) -> Value {
+    let csv = std::fs::read_to_string(dir.join(format!("{stem}.csv")))
+        .unwrap_or_else(|e| panic!("{stem}.csv: {e}"));
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("omega,stable,z1_max_abs,z1_mean,z1_amp1,z2_max_abs,z2_mean,z2_amp1,y_max_abs,y_mean,y_amp1"));
+    let mut rows = 0;
+    for l in lines {
+        let cols: Vec<&str> = l.split(',').collect();
+        assert_eq!(cols.len(), 11, "{stem}: {l}");
+        assert!(cols[1] == "true" || cols[1] == "false");
+        for c in cols.iter().skip(2).chain(std::iter::once(&cols[0])) {
+            c.parse::<f64>().unwrap_or_else(|_| panic!("{stem}: {c}"));
+        }
+        rows += 1;
+    }
+    let v: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{stem}.json"))).unwrap())
+            .unwrap();
+    assert_eq!(v["points"].as_array().unwrap().len(), rows, "{stem}: CSV and JSON agree");
+    assert!(rows > 10, "{stem}: {rows} points");
+    v
+}
+
+#[test]
+fn reference_study_runs_and_every_file_parses() {
+    let cli = Cli::builtin();
+    let s = study::parse(study::REFERENCE_STUDY, "reference").unwrap();
+    let dir = tmp("reference");
+    let outcome = study::run(&s, cli.registry(), &dir).unwrap();
+    assert!(outcome.failures.is_empty(), "{:#?}", outcome.failures);
+    for (id, vary, values) in paper() {
+        let texts = svg_texts(&dir.join(format!("{id}.svg")));
+        match vary {
+            Some(v) => {
+                for x in &values {
+                    let label = if v == "harmonics" {
+                        format!("N = {x}")
+                    } else {
+                        format!("{v} = {}", fmt_num(*x))
+                    };
+                    // One legend entry per panel (z1 and y).
+                    assert_eq!(
+                        texts.iter().filter(|t| **t == label).count(),
+                        2,
+                        "{id}: {label} in {texts:?}"
+                    );
+                    check_curve_files(&dir, &format!("{id}_{v}_{}", fmt_num(*x)));
+                }
+            }
+            None => {
+                assert_eq!(
+                    texts.iter().filter(|t| *t == "quarter-car").count(),
+                    2,
+                    "{id}: {texts:?}"
+                );
+                check_curve_files(&dir, id);
+            }
+        }
+    }
+    // Fig. 6: both schemes appear as markers in both panels, and the comparison table.
+    let texts = svg_texts(&dir.join("fig06_time_domain.svg"));
+    for l in ["time integration (GL)", "time integration (BDF2)"] {
+        assert_eq!(texts.iter().filter(|t| *t == l).count(), 2, "{l}");
+    }
+    let td = std::fs::read_to_string(dir.join("fig06_time_domain_timedomain.csv")).unwrap();
+    // 7 frequencies x 2 schemes x 3 outputs.
+    assert_eq!(td.lines().count(), 1 + 7 * 2 * 3, "{td}");
+    // The multi-valued figure really folds, with an unstable branch and jumps.
+    let v = check_curve_files(&dir, "fig_jumps_F_0.03");
+    assert!(v["folds"].as_array().unwrap().len() >= 2, "{}", v["folds"]);
+    assert!(v["points"].as_array().unwrap().iter().any(|p| p["stable"] == false));
+    assert!(v["jumps"].as_array().unwrap().len() >= 2, "{}", v["jumps"]);
+    let texts = svg_texts(&dir.join("fig_jumps.svg"));
+    for l in ["unstable (dashed)", "fold", "jump (slow sweep)"] {
+        assert!(texts.iter().any(|t| t == l), "{l}: {texts:?}");
+    }
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    for (id, _, _) in paper() {
+        assert!(summary.contains(&format!("(`{id}`)")), "{id}");
+    }
+    assert!(summary.contains("**Paper:**"));
+    assert!(!summary.contains("inconclusive ("), "every check decided");
+}
+
+#[test]
+fn a_study_that_fails_part_way_writes_what_finished() {
+    // p = 2.5 is outside [0, 2]: that curve and its time-domain point fail at solve time
+    // (the study file itself is valid); the p = 0.5 curve must still be written.
+    let text = r#"
+model = "quarter-car"
+frequency = { from = 2.0, to = 12.0 }
+outputs = ["z1", "y"]
+
+[[figure]]
+id = "ok_and_bad"
+vary = "p"
+values = [0.5, 2.5]
+
+[[figure]]
+id = "bad_only"
+params = { p = 2.5 }
+"#;
+    let cli = Cli::builtin();
+    let s = study::parse(text, "partial.toml").unwrap();
+    s.validate(cli.registry()).unwrap();
+    let dir = tmp("partial");
+    let outcome = study::run(&s, cli.registry(), &dir).unwrap();
+    assert!(dir.join("ok_and_bad_p_0.5.csv").exists());
+    assert!(dir.join("ok_and_bad.svg").exists());
+    assert!(!dir.join("ok_and_bad_p_2.5.csv").exists());
+    assert!(!dir.join("bad_only.svg").exists());
+    assert!(
+        outcome
+            .failures
+            .iter()
+            .any(|f| f.contains("ok_and_bad, p = 2.5") && f.contains("fractional order")),
+        "{:#?}",
+        outcome.failures
+    );
+    assert!(outcome.failures.iter().any(|f| f.starts_with("bad_only")), "{:#?}", outcome.failures);
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("part(s) failed") && summary.contains("p = 2.5"), "{summary}");
+
+    // Through the binary: non-zero exit, one line naming the failure, files written.
+    let path = dir.join("partial.toml");
+    std::fs::write(&path, text).unwrap();
+    let out2 = dir.join("bin");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_ihbm"))
+        .args(["run", path.to_str().unwrap(), "--out", out2.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("failed"), "{err}");
+    assert!(out2.join("ok_and_bad_p_0.5.csv").exists());
+    assert!(out2.join("summary.md").exists());
+}
