@@ -290,6 +290,12 @@ impl<'m, M: Model> Stepper<'m, M> {
             for (r, res) in self.r.iter_mut().zip(&self.res) {
                 *r = res.re;
             }
+            if self.r.iter().any(|r| !r.is_finite()) {
+                return Err(Error::Diverged {
+                    time: t,
+                    detail: "the residual is not finite: the state overflowed".into(),
+                });
+            }
             if !solve_dense(&mut self.jac, &mut self.r, n) {
                 return Err(Error::Diverged {
                     time: t,
