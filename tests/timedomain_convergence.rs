@@ -12,7 +12,14 @@ use ihbm::models::{FractionalDuffing, QuarterCar};
 use ihbm::timedomain::{Scheme, Stepper, StepperOptions};
 
 /// Outputs at times `k * h0`, `k = 0..=n0`, from a run with step `h0 / refine`.
-fn run<M: Model>(model: &M, omega: f64, h0: f64, n0: usize, refine: usize, scheme: Scheme) -> Vec<f64> {
+fn run<M: Model>(
+    model: &M,
+    omega: f64,
+    h0: f64,
+    n0: usize,
+    refine: usize,
+    scheme: Scheme,
+) -> Vec<f64> {
     let steps = n0 * refine;
     let opts = StepperOptions { scheme, ..StepperOptions::new(h0 / refine as f64, steps) };
     let mut s = Stepper::new(model, omega, &opts).unwrap();
@@ -36,8 +43,10 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 /// Errors at h0, h0/2, h0/4 and the observed orders between them.
 fn orders<M: Model>(model: &M, omega: f64, h0: f64, n0: usize, scheme: Scheme) -> Vec<f64> {
     let reference = run(model, omega, h0, n0, 64, Scheme::Bdf2);
-    let errors: Vec<f64> =
-        [1, 2, 4].iter().map(|&r| max_diff(&run(model, omega, h0, n0, r, scheme), &reference)).collect();
+    let errors: Vec<f64> = [1, 2, 4]
+        .iter()
+        .map(|&r| max_diff(&run(model, omega, h0, n0, r, scheme), &reference))
+        .collect();
     let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
     println!("{} {scheme}: errors {errors:?} orders {orders:.3?}", model.name());
     orders

@@ -15,7 +15,8 @@ fn invalid_message(r: Result<ihbm::timedomain::Simulation, Error>) -> String {
 fn bad_steps_and_periods() {
     let m = QuarterCar::default();
     for dt in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
-        let msg = invalid_message(simulate(&m, 8.0, &SimOptions { dt: Some(dt), ..Default::default() }));
+        let msg =
+            invalid_message(simulate(&m, 8.0, &SimOptions { dt: Some(dt), ..Default::default() }));
         assert!(msg.contains("time step dt") && msg.contains(&dt.to_string()), "{msg}");
     }
     for periods in [0, 1, 19] {
@@ -33,10 +34,18 @@ fn step_too_coarse_for_the_forcing() {
     let m = QuarterCar::default();
     let period = std::f64::consts::TAU / 8.0;
     // 10 steps per period: refused, and the message says the largest dt accepted.
-    let msg = invalid_message(simulate(&m, 8.0, &SimOptions { dt: Some(period / 10.0), ..Default::default() }));
+    let msg = invalid_message(simulate(
+        &m,
+        8.0,
+        &SimOptions { dt: Some(period / 10.0), ..Default::default() },
+    ));
     assert!(msg.contains("10.0 steps per period") && msg.contains("at most"), "{msg}");
     // 20 steps per period is the threshold and is accepted.
-    let ok = simulate(&m, 8.0, &SimOptions { dt: Some(period / 20.0), periods: 20, ..Default::default() });
+    let ok = simulate(
+        &m,
+        8.0,
+        &SimOptions { dt: Some(period / 20.0), periods: 20, ..Default::default() },
+    );
     assert!(ok.is_ok(), "{ok:?}");
 }
 

@@ -1,7 +1,7 @@
 //! The fast (FFT) history convolution against the direct sum.
 
 use ihbm::models::QuarterCar;
-use ihbm::timedomain::{History, Memory, Scheme, SimOptions, Stepper, StepperOptions, simulate};
+use ihbm::timedomain::{simulate, History, Memory, Scheme, SimOptions, Stepper, StepperOptions};
 use proptest::prelude::*;
 
 fn rel(a: f64, b: f64, scale: f64) -> f64 {

@@ -160,12 +160,11 @@ impl FastHistory {
             let n = 2 * b;
             let forward = planner.plan_fft_forward(n);
             let inverse = planner.plan_fft_inverse(n);
-            let mut time: Vec<f64> =
-                (0..n).map(|l| if l + 1 < cap && l + 1 < n { weights[l + 1] } else { 0.0 }).collect();
+            let mut time: Vec<f64> = (0..n)
+                .map(|l| if l + 1 < cap && l + 1 < n { weights[l + 1] } else { 0.0 })
+                .collect();
             let mut spectrum = forward.make_output_vec();
-            scratch_len = scratch_len
-                .max(forward.get_scratch_len())
-                .max(inverse.get_scratch_len());
+            scratch_len = scratch_len.max(forward.get_scratch_len()).max(inverse.get_scratch_len());
             let mut scratch = forward.make_scratch_vec();
             // Lengths come from the plan itself, so this cannot fail.
             let _ = forward.process_with_scratch(&mut time, &mut spectrum, &mut scratch);

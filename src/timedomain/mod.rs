@@ -248,7 +248,11 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
         duration: steps as f64 * dt,
         scheme: opts.scheme,
         memory: opts.memory,
-        outputs: outs.iter().zip(&tail).map(|(o, s)| steady::summarize(o.name, s, window)).collect(),
+        outputs: outs
+            .iter()
+            .zip(&tail)
+            .map(|(o, s)| steady::summarize(o.name, s, window))
+            .collect(),
         newton_iterations,
         newton_max,
         trajectory: traj,

@@ -43,7 +43,11 @@ enum Kind {
     Velocity,
     Acceleration,
     /// Index into the histories; `scale = dt^-q`, `w0` the first weight.
-    Fractional { history: usize, scale: f64, w0: f64 },
+    Fractional {
+        history: usize,
+        scale: f64,
+        w0: f64,
+    },
 }
 
 /// Settings of the stepper itself.
@@ -335,7 +339,8 @@ impl<'m, M: Model> Stepper<'m, M> {
                     + dt * self.v[d]
                     + (0.5 - BETA) * dt2 * self.a[d]
                     + BETA * dt2 * self.a_new[d];
-                self.v_new[d] = self.v[d] + (1.0 - GAMMA) * dt * self.a[d] + GAMMA * dt * self.a_new[d];
+                self.v_new[d] =
+                    self.v[d] + (1.0 - GAMMA) * dt * self.a[d] + GAMMA * dt * self.a_new[d];
             }
             if self.x_new.iter().chain(&self.v_new).any(|v| !v.is_finite()) {
                 return Err(Error::Diverged { time: t, detail: "non-finite state".into() });
