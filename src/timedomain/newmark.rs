@@ -301,10 +301,13 @@ impl<'m, M: Model> Stepper<'m, M> {
                 });
             }
             if !solve_dense(&mut self.jac, &mut self.r, n) {
-                return Err(Error::Diverged {
-                    time: t,
-                    detail: "singular or non-finite Jacobian of the step equations".into(),
-                });
+                let detail = if initial {
+                    "the equations at t = 0 do not determine the initial accelerations \
+                     (singular Jacobian): every DOF needs an inertia term D(x, 2)"
+                } else {
+                    "singular or non-finite Jacobian of the step equations"
+                };
+                return Err(Error::Diverged { time: t, detail: detail.into() });
             }
             let mut step_norm = 0.0f64;
             let mut a_norm = 0.0f64;
