@@ -292,11 +292,18 @@ impl<'m, M: Model> Balance<'m, M> {
         for e in 0..self.ndof {
             for (s, sig) in signals.iter().enumerate() {
                 let g = &self.grad[(e * nsig + s) * m..][..m];
-                if g.iter().all(|&x| x == 0.0) {
+                let lam = &self.lam[s * (self.n + 1)..][..self.n + 1];
+                let g0 = g[0];
+                if g.iter().all(|&x| x == g0) {
+                    // a linear term: multiplication by a constant is diagonal
+                    if g0 != 0.0 {
+                        for &(d, c) in sig.terms {
+                            add_diagonal_block(jac.rb_mut(), self.n, e, d, c * g0, lam);
+                        }
+                    }
                     continue;
                 }
                 self.fourier.spectrum(g, &mut self.ghat);
-                let lam = &self.lam[s * (self.n + 1)..][..self.n + 1];
                 for &(d, c) in sig.terms {
                     add_block(jac.rb_mut(), self.n, e, d, c, &self.ghat, lam);
                 }
@@ -393,6 +400,28 @@ fn g_at(ghat: &[Complex64], m: isize) -> Complex64 {
         ghat[m as usize]
     } else {
         ghat[(-m) as usize].conj()
+    }
+}
+
+/// Add `c · D^q` into the `(e, d)` block (the case of a constant `g`, folded into `c`):
+/// `D^q` maps `(cos kθ, sin kθ)` by the 2×2 rotation-scaling of `λ_k = (ikΩ)^q`.
+fn add_diagonal_block(
+    mut jac: MatMut<'_, f64>,
+    n: usize,
+    e: usize,
+    d: usize,
+    c: f64,
+    lam: &[Complex64],
+) {
+    let l = coeff_len(n);
+    let (row0, col0) = (e * l, d * l);
+    jac[(row0, col0)] += c * lam[0].re;
+    for k in 1..=n {
+        let (re, im) = (c * lam[k].re, c * lam[k].im);
+        jac[(row0 + k, col0 + k)] += re;
+        jac[(row0 + n + k, col0 + k)] -= im;
+        jac[(row0 + k, col0 + n + k)] += im;
+        jac[(row0 + n + k, col0 + n + k)] += re;
     }
 }
 

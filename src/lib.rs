@@ -36,3 +36,27 @@ pub use ihbm_macros::oscillator;
 pub use model::Model;
 /// Re-exported so generated and user code needs only `ihbm` as a dependency.
 pub use num_dual;
+
+/// The book's chapters (and the README), compiled and run as doctests so that every
+/// code block in `book/` stays true.
+#[cfg(doctest)]
+pub mod book {
+    #[doc = include_str!("../book/src/introduction.md")]
+    pub struct Introduction;
+    #[doc = include_str!("../book/src/method.md")]
+    pub struct Method;
+    #[doc = include_str!("../book/src/quickstart.md")]
+    pub struct Quickstart;
+    #[doc = include_str!("../book/src/quarter-car.md")]
+    pub struct QuarterCar;
+    #[doc = include_str!("../book/src/models.md")]
+    pub struct Models;
+    #[doc = include_str!("../book/src/continuation.md")]
+    pub struct Continuation;
+    #[doc = include_str!("../book/src/timedomain.md")]
+    pub struct Timedomain;
+    #[doc = include_str!("../book/src/snapshots.md")]
+    pub struct Snapshots;
+    #[doc = include_str!("../book/src/performance.md")]
+    pub struct Performance;
+}

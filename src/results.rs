@@ -156,4 +156,78 @@ pub struct Curve {
     pub segments: Vec<Segment>,
     /// Solver counters.
     pub stats: CurveStats,
+    /// Bifurcations in arc-length order: every fold, and every change of stability
+    /// that is not a fold (period doubling, torus, branch point).
+    pub bifurcations: Vec<Bifurcation>,
+    /// The harmonic-convergence study, when it was requested.
+    pub convergence: Option<HarmonicConvergence>,
+}
+
+/// What happens at a bifurcation point of a curve of periodic solutions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BifurcationKind {
+    /// A turning point of the curve (Floquet multiplier +1, the curve folds back).
+    Fold,
+    /// A real exponent crosses zero without a fold (symmetry-breaking pitchfork or
+    /// transcritical branch point).
+    BranchPoint,
+    /// A Floquet multiplier leaves the unit circle through -1 (a period-2 branch).
+    PeriodDoubling,
+    /// A complex pair of multipliers leaves the unit circle (Neimark–Sacker: a torus,
+    /// quasi-periodic response).
+    Torus,
+}
+
+impl std::fmt::Display for BifurcationKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BifurcationKind::Fold => "fold",
+            BifurcationKind::BranchPoint => "branch-point",
+            BifurcationKind::PeriodDoubling => "period-doubling",
+            BifurcationKind::Torus => "torus",
+        })
+    }
+}
+
+/// A bifurcation found on a traced curve.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Bifurcation {
+    /// What kind.
+    pub kind: BifurcationKind,
+    /// Forcing frequency there.
+    pub omega: f64,
+    /// Continuation parameter there (equal to `omega` for frequency sweeps).
+    pub param: f64,
+    /// It lies between `points[after]` and `points[after + 1]`.
+    pub after: usize,
+    /// Per output, in model output order.
+    pub outputs: Vec<PointOutput>,
+}
+
+/// One level of a harmonic-convergence study.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HarmonicLevel {
+    /// Number of harmonics N of this run.
+    pub harmonics: usize,
+    /// Peak `max_abs` over the curve, per output.
+    pub peaks: Vec<f64>,
+    /// Fold parameters (frequencies), in arc-length order.
+    pub folds: Vec<f64>,
+    /// Largest relative change of peaks and folds from the previous level
+    /// (`inf` for the first level or when the number of folds changed).
+    pub change: f64,
+}
+
+/// The result of rerunning a curve with N, N+2, ... harmonics.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HarmonicConvergence {
+    /// Every run, in order; the curve returned is the last one.
+    pub levels: Vec<HarmonicLevel>,
+    /// The tolerance on the relative change.
+    pub tol: f64,
+    /// Whether the last change is below the tolerance.
+    pub converged: bool,
+    /// The estimated relative error of the returned curve (the last change).
+    pub estimate: f64,
 }

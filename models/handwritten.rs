@@ -1,0 +1,336 @@
+//! The hand-written models the DSL replaced, kept as an independent reference: the
+//! tests compare the `oscillator!` twins against them sample by sample and harmonic by
+//! harmonic, and `benches/dsl.rs` times both. Not part of the public API.
+
+/// Hand-written quarter car (reference paper, eq. 4).
+pub mod quarter_car {
+
+    use crate::model::{Model, Order, Output, ParamInfo, Signal};
+    use num_dual::DualNum;
+
+    /// Quarter-car suspension with a metal-rubber (fractional) element; Table 1 defaults.
+    #[derive(Debug, Clone, PartialEq)]
+    #[allow(non_snake_case)] // `F` as in the paper and the DSL
+    pub struct QuarterCar {
+        /// Body (sprung) mass, kg.
+        pub m1: f64,
+        /// Wheel/tyre (unsprung) mass, kg.
+        pub m2: f64,
+        /// Linear suspension stiffness, N/m.
+        pub k1: f64,
+        /// Cubic suspension stiffness, N/m^3.
+        pub k3: f64,
+        /// Tyre stiffness, N/m.
+        pub kt: f64,
+        /// Viscous suspension damping, N s/m.
+        pub c: f64,
+        /// Fractional damping coefficient, N s^p/m.
+        pub h: f64,
+        /// Fractional order.
+        pub p: f64,
+        /// Road amplitude, m.
+        pub F: f64,
+    }
+
+    const PARAMS: [ParamInfo; 9] = [
+        ParamInfo { name: "m1", default: 240.0, doc: "body (sprung) mass, kg" },
+        ParamInfo { name: "m2", default: 30.0, doc: "wheel (unsprung) mass, kg" },
+        ParamInfo { name: "k1", default: 16_000.0, doc: "linear suspension stiffness, N/m" },
+        ParamInfo { name: "k3", default: 10_000.0, doc: "cubic suspension stiffness, N/m^3" },
+        ParamInfo { name: "kt", default: 160_000.0, doc: "tyre stiffness, N/m" },
+        ParamInfo { name: "c", default: 1_000.0, doc: "viscous suspension damping, N s/m" },
+        ParamInfo { name: "h", default: 1_000.0, doc: "fractional damping coefficient, N s^p/m" },
+        ParamInfo { name: "p", default: 0.5, doc: "fractional order" },
+        ParamInfo { name: "F", default: 0.01, doc: "road amplitude, m" },
+    ];
+
+    const Z1: &[(usize, f64)] = &[(0, 1.0)];
+    const Z2: &[(usize, f64)] = &[(1, 1.0)];
+    const Y: &[(usize, f64)] = &[(0, 1.0), (1, -1.0)];
+    const SIGNALS: [Signal; 6] = [
+        Signal { terms: Z1, order: Order::Int(0) },
+        Signal { terms: Z2, order: Order::Int(0) },
+        Signal { terms: Z1, order: Order::Int(2) },
+        Signal { terms: Z2, order: Order::Int(2) },
+        Signal { terms: Y, order: Order::Int(1) },
+        Signal { terms: Y, order: Order::Param(7) },
+    ];
+    const OUTPUTS: [Output; 3] = [
+        Output { name: "z1", terms: Z1 },
+        Output { name: "z2", terms: Z2 },
+        Output { name: "y", terms: Y },
+    ];
+
+    impl Default for QuarterCar {
+        fn default() -> Self {
+            QuarterCar {
+                m1: 240.0,
+                m2: 30.0,
+                k1: 16_000.0,
+                k3: 10_000.0,
+                kt: 160_000.0,
+                c: 1_000.0,
+                h: 1_000.0,
+                p: 0.5,
+                F: 0.01,
+            }
+        }
+    }
+
+    impl QuarterCar {
+        fn fields(&mut self) -> [&mut f64; 9] {
+            [
+                &mut self.m1,
+                &mut self.m2,
+                &mut self.k1,
+                &mut self.k3,
+                &mut self.kt,
+                &mut self.c,
+                &mut self.h,
+                &mut self.p,
+                &mut self.F,
+            ]
+        }
+    }
+
+    impl Model for QuarterCar {
+        fn name(&self) -> &'static str {
+            "quarter-car"
+        }
+        fn description(&self) -> &'static str {
+            "Quarter-car suspension with a metal-rubber (fractional) element (reference paper, eq. 4)"
+        }
+        fn dofs(&self) -> &'static [&'static str] {
+            &["z1", "z2"]
+        }
+        fn params_info(&self) -> &'static [ParamInfo] {
+            &PARAMS
+        }
+        fn param_value(&self, index: usize) -> f64 {
+            [self.m1, self.m2, self.k1, self.k3, self.kt, self.c, self.h, self.p, self.F][index]
+        }
+        fn set_param_value(&mut self, index: usize, value: f64) {
+            *self.fields()[index] = value;
+        }
+        fn signals(&self) -> &'static [Signal] {
+            &SIGNALS
+        }
+        fn outputs(&self) -> &'static [Output] {
+            &OUTPUTS
+        }
+        fn degree(&self) -> usize {
+            3
+        }
+        fn equations(&self) -> &'static [&'static str] {
+            &[
+                "m1 * D(z1, 2) + fs = 0",
+                "m2 * D(z2, 2) + kt * (z2 - F * cos(omega * t)) - fs = 0",
+                "where y = z1 - z2, fs = k1 * y + k3 * y^3 + c * D(y, 1) + h * D(y, p)",
+            ]
+        }
+        #[inline]
+        fn residual<D: DualNum<Primitive = f64> + Copy>(
+            &self,
+            p: &[D],
+            _omega: D,
+            phase: f64,
+            s: &[D],
+            out: &mut [D],
+        ) {
+            let (m1, m2, k1, k3, kt, c, h, f) = (p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8]);
+            let y = s[0] - s[1];
+            let fs = k1 * y + k3 * y * y * y + c * s[4] + h * s[5];
+            out[0] = m1 * s[2] + fs;
+            out[1] = m2 * s[3] + kt * (s[1] - f * phase.cos()) - fs;
+        }
+    }
+}
+
+/// Hand-written Duffing and fractional Duffing oscillators.
+pub mod duffing {
+
+    use crate::model::{Model, Order, Output, ParamInfo, Signal};
+    use num_dual::DualNum;
+
+    const X: &[(usize, f64)] = &[(0, 1.0)];
+    const OUTPUTS: [Output; 1] = [Output { name: "x", terms: X }];
+
+    /// `m x'' + c x' + k x + k3 x^3 = F cos Ωt`.
+    #[derive(Debug, Clone, PartialEq)]
+    #[allow(non_snake_case)] // `F` as in the paper and the DSL
+    pub struct Duffing {
+        /// Mass.
+        pub m: f64,
+        /// Viscous damping.
+        pub c: f64,
+        /// Linear stiffness.
+        pub k: f64,
+        /// Cubic stiffness.
+        pub k3: f64,
+        /// Force amplitude.
+        pub F: f64,
+    }
+
+    const DUFFING_PARAMS: [ParamInfo; 5] = [
+        ParamInfo { name: "m", default: 1.0, doc: "mass, kg" },
+        ParamInfo { name: "c", default: 0.1, doc: "viscous damping, N s/m" },
+        ParamInfo { name: "k", default: 1.0, doc: "linear stiffness, N/m" },
+        ParamInfo { name: "k3", default: 1.0, doc: "cubic stiffness, N/m^3" },
+        ParamInfo { name: "F", default: 0.5, doc: "force amplitude, N" },
+    ];
+    const DUFFING_SIGNALS: [Signal; 3] = [
+        Signal { terms: X, order: Order::Int(0) },
+        Signal { terms: X, order: Order::Int(1) },
+        Signal { terms: X, order: Order::Int(2) },
+    ];
+
+    impl Default for Duffing {
+        fn default() -> Self {
+            Duffing { m: 1.0, c: 0.1, k: 1.0, k3: 1.0, F: 0.5 }
+        }
+    }
+
+    impl Model for Duffing {
+        fn name(&self) -> &'static str {
+            "duffing"
+        }
+        fn description(&self) -> &'static str {
+            "Duffing oscillator m x'' + c x' + k x + k3 x^3 = F cos(Ωt)"
+        }
+        fn dofs(&self) -> &'static [&'static str] {
+            &["x"]
+        }
+        fn params_info(&self) -> &'static [ParamInfo] {
+            &DUFFING_PARAMS
+        }
+        fn param_value(&self, index: usize) -> f64 {
+            [self.m, self.c, self.k, self.k3, self.F][index]
+        }
+        fn set_param_value(&mut self, index: usize, value: f64) {
+            *[&mut self.m, &mut self.c, &mut self.k, &mut self.k3, &mut self.F][index] = value;
+        }
+        fn signals(&self) -> &'static [Signal] {
+            &DUFFING_SIGNALS
+        }
+        fn outputs(&self) -> &'static [Output] {
+            &OUTPUTS
+        }
+        fn degree(&self) -> usize {
+            3
+        }
+        fn equations(&self) -> &'static [&'static str] {
+            &["m * D(x, 2) + c * D(x, 1) + k * x + k3 * x^3 = F * cos(omega * t)"]
+        }
+        #[inline]
+        fn residual<D: DualNum<Primitive = f64> + Copy>(
+            &self,
+            p: &[D],
+            _omega: D,
+            phase: f64,
+            s: &[D],
+            out: &mut [D],
+        ) {
+            let x = s[0];
+            out[0] = p[0] * s[2] + p[1] * s[1] + p[2] * x + p[3] * x * x * x - p[4] * phase.cos();
+        }
+    }
+
+    /// `m x'' + c x' + k x + k3 x^3 + h D^p x = F cos Ωt`.
+    #[derive(Debug, Clone, PartialEq)]
+    #[allow(non_snake_case)] // `F` as in the paper and the DSL
+    pub struct FractionalDuffing {
+        /// Mass.
+        pub m: f64,
+        /// Viscous damping.
+        pub c: f64,
+        /// Linear stiffness.
+        pub k: f64,
+        /// Cubic stiffness.
+        pub k3: f64,
+        /// Fractional damping coefficient.
+        pub h: f64,
+        /// Fractional order.
+        pub p: f64,
+        /// Force amplitude.
+        pub F: f64,
+    }
+
+    const FRAC_PARAMS: [ParamInfo; 7] = [
+        ParamInfo { name: "m", default: 1.0, doc: "mass, kg" },
+        ParamInfo { name: "c", default: 0.05, doc: "viscous damping, N s/m" },
+        ParamInfo { name: "k", default: 1.0, doc: "linear stiffness, N/m" },
+        ParamInfo { name: "k3", default: 1.0, doc: "cubic stiffness, N/m^3" },
+        ParamInfo { name: "h", default: 0.1, doc: "fractional damping coefficient, N s^p/m" },
+        ParamInfo { name: "p", default: 0.5, doc: "fractional order" },
+        ParamInfo { name: "F", default: 0.5, doc: "force amplitude, N" },
+    ];
+    const FRAC_SIGNALS: [Signal; 4] = [
+        Signal { terms: X, order: Order::Int(0) },
+        Signal { terms: X, order: Order::Int(1) },
+        Signal { terms: X, order: Order::Int(2) },
+        Signal { terms: X, order: Order::Param(5) },
+    ];
+
+    impl Default for FractionalDuffing {
+        fn default() -> Self {
+            FractionalDuffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.1, p: 0.5, F: 0.5 }
+        }
+    }
+
+    impl Model for FractionalDuffing {
+        fn name(&self) -> &'static str {
+            "fractional-duffing"
+        }
+        fn description(&self) -> &'static str {
+            "Fractional Duffing oscillator m x'' + c x' + k x + k3 x^3 + h D^p x = F cos(Ωt)"
+        }
+        fn dofs(&self) -> &'static [&'static str] {
+            &["x"]
+        }
+        fn params_info(&self) -> &'static [ParamInfo] {
+            &FRAC_PARAMS
+        }
+        fn param_value(&self, index: usize) -> f64 {
+            [self.m, self.c, self.k, self.k3, self.h, self.p, self.F][index]
+        }
+        fn set_param_value(&mut self, index: usize, value: f64) {
+            *[
+                &mut self.m,
+                &mut self.c,
+                &mut self.k,
+                &mut self.k3,
+                &mut self.h,
+                &mut self.p,
+                &mut self.F,
+            ][index] = value;
+        }
+        fn signals(&self) -> &'static [Signal] {
+            &FRAC_SIGNALS
+        }
+        fn outputs(&self) -> &'static [Output] {
+            &OUTPUTS
+        }
+        fn degree(&self) -> usize {
+            3
+        }
+        fn equations(&self) -> &'static [&'static str] {
+            &["m * D(x, 2) + c * D(x, 1) + k * x + k3 * x^3 + h * D(x, p) = F * cos(omega * t)"]
+        }
+        #[inline]
+        fn residual<D: DualNum<Primitive = f64> + Copy>(
+            &self,
+            p: &[D],
+            _omega: D,
+            phase: f64,
+            s: &[D],
+            out: &mut [D],
+        ) {
+            let x = s[0];
+            out[0] = p[0] * s[2] + p[1] * s[1] + p[2] * x + p[3] * x * x * x + p[4] * s[3]
+                - p[6] * phase.cos();
+        }
+    }
+}
+
+pub use duffing::{Duffing, FractionalDuffing};
+pub use quarter_car::QuarterCar;

@@ -1,0 +1,210 @@
+//! The bordered Newton corrector and tangent in scaled variables.
+//!
+//! Unknowns are `y = [a / s_a, λ / s_λ]`: Fourier coefficients divided by a reference
+//! amplitude and the continuation parameter divided by the length of its range, so
+//! that a step of 0.05 means "5 % of the range" in λ and "5 % of the reference
+//! response" in amplitude, whether amplitudes are micrometres or metres. Residuals are
+//! divided by a reference force (the residual at zero response, i.e. the forcing).
+//!
+//! One LU of the `(n+1)×(n+1)` bordered matrix per Newton iteration; the LU of the
+//! last iteration also gives the tangent (`K t = e_{n+1}`), whose orientation follows
+//! the border row automatically (`border · t > 0`). All buffers live here and are
+//! reused across steps: the stepping loop does not allocate.
+
+use crate::balance::Balance;
+use crate::linalg::DenseLu;
+use crate::model::Model;
+use faer::prelude::ReborrowMut;
+
+/// What is continued.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Axis {
+    /// The forcing frequency.
+    Omega,
+    /// A model parameter (by index) at a fixed frequency.
+    Param { index: usize, omega: f64 },
+}
+
+pub(crate) struct Tracer<'m, M: Model> {
+    pub bal: Balance<'m, M>,
+    pub axis: Axis,
+    /// Number of Fourier coefficients.
+    pub n: usize,
+    pub sa: f64,
+    pub sl: f64,
+    pub sr: f64,
+    pub tol: f64,
+    pub max_iter: usize,
+    /// Newton iterations, all calls together.
+    pub iterations: usize,
+    lu: DenseLu,
+    rhs: Vec<f64>,
+    r: Vec<f64>,
+    dl: Vec<f64>,
+    a: Vec<f64>,
+}
+
+impl<'m, M: Model> Tracer<'m, M> {
+    pub fn new(bal: Balance<'m, M>, axis: Axis, tol: f64, max_iter: usize) -> Self {
+        let n = bal.len();
+        Tracer {
+            bal,
+            axis,
+            n,
+            sa: 1.0,
+            sl: 1.0,
+            sr: 1.0,
+            tol,
+            max_iter,
+            iterations: 0,
+            lu: DenseLu::new(n + 1),
+            rhs: vec![0.0; n + 1],
+            r: vec![0.0; n],
+            dl: vec![0.0; n],
+            a: vec![0.0; n],
+        }
+    }
+
+    /// The continuation parameter at `y`.
+    pub fn lambda(&self, y: &[f64]) -> f64 {
+        y[self.n] * self.sl
+    }
+
+    /// The forcing frequency at `y`.
+    pub fn omega(&self, y: &[f64]) -> f64 {
+        match self.axis {
+            Axis::Omega => self.lambda(y),
+            Axis::Param { omega, .. } => omega,
+        }
+    }
+
+    /// Unscaled coefficients of `y`.
+    pub fn coeffs(&self, y: &[f64], out: &mut [f64]) {
+        for (o, &v) in out.iter_mut().zip(&y[..self.n]) {
+            *o = v * self.sa;
+        }
+    }
+
+    /// Make `bal` evaluate at the parameter of `y` (parameter continuation only).
+    pub fn set_point(&mut self, y: &[f64]) {
+        if let Axis::Param { index, .. } = self.axis {
+            let l = self.lambda(y);
+            self.bal.set_param(index, l);
+        }
+    }
+
+    /// Residual max-norm at zero response (the forcing): the reference force.
+    pub fn reference_force(&mut self, lambda: f64) -> f64 {
+        let omega = match self.axis {
+            Axis::Omega => lambda,
+            Axis::Param { index, omega } => {
+                self.bal.set_param(index, lambda);
+                omega
+            }
+        };
+        self.a.fill(0.0);
+        self.bal.residual(&self.a, omega, &mut self.r);
+        self.r.iter().fold(0.0, |m: f64, v| m.max(v.abs()))
+    }
+
+    /// Fill the bordered matrix and the scaled residual at `y`.
+    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) {
+        let n = self.n;
+        for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
+            *a = v * self.sa;
+        }
+        let lam = y[n] * self.sl;
+        let omega = match self.axis {
+            Axis::Omega => lam,
+            Axis::Param { index, omega } => {
+                self.bal.set_param(index, lam);
+                omega
+            }
+        };
+        let mut k = self.lu.matrix_mut();
+        self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
+        match self.axis {
+            Axis::Omega => self.bal.d_omega(&self.a, omega, &mut self.dl),
+            Axis::Param { index, .. } => self.bal.d_param(&self.a, omega, index, &mut self.dl),
+        }
+        let (cs, cl) = (self.sa / self.sr, self.sl / self.sr);
+        for j in 0..n {
+            for i in 0..n {
+                k[(i, j)] *= cs;
+            }
+        }
+        for i in 0..n {
+            k[(i, n)] = self.dl[i] * cl;
+            k[(n, i)] = border[i];
+            self.rhs[i] = self.r[i] / self.sr;
+        }
+        k[(n, n)] = border[n];
+        self.rhs[n] = dot(border, y) - target;
+    }
+
+    /// One bordered Newton step at `y` (updated in place); the max-norm of the step.
+    pub fn newton_step(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+    ) -> Result<f64, String> {
+        let n = self.n;
+        self.iterations += 1;
+        self.assemble(y, border, target);
+        let res = self.rhs[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if !res.is_finite() {
+            return Err(format!("non-finite residual at Ω = {:.6}", self.omega(y)));
+        }
+        let pivots = self.lu.factor();
+        if !(pivots > 1e-15) {
+            return Err(format!("singular bordered Jacobian at Ω = {:.6}", self.omega(y)));
+        }
+        self.lu.solve(&mut self.rhs);
+        let mut dn = 0.0f64;
+        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
+            *yi -= d;
+            dn = dn.max(d.abs());
+        }
+        if !dn.is_finite() {
+            return Err(format!("non-finite Newton step at Ω = {:.6}", self.omega(y)));
+        }
+        Ok(dn)
+    }
+
+    /// Bordered Newton from `y` (overwritten) on `R = 0`, `border · y = target`.
+    /// Returns the iterations used, or why it failed.
+    pub fn correct(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, String> {
+        let mut prev = f64::INFINITY;
+        for it in 1..=self.max_iter {
+            let dn = self.newton_step(y, border, target)?;
+            if dn <= self.tol {
+                return Ok(it);
+            }
+            if it >= 3 && dn > 0.5 * prev {
+                return Err(format!(
+                    "Newton not contracting at Ω = {:.6} (step {dn:.2e} after {prev:.2e})",
+                    self.omega(y)
+                ));
+            }
+            prev = dn;
+        }
+        Err(format!("no convergence in {} iterations at Ω = {:.6}", self.max_iter, self.omega(y)))
+    }
+
+    /// The unit tangent from the LU of the last `correct` (oriented along its border).
+    pub fn tangent(&mut self, t: &mut [f64]) {
+        let n = self.n;
+        self.rhs.fill(0.0);
+        self.rhs[n] = 1.0;
+        self.lu.solve(&mut self.rhs);
+        let norm = dot(&self.rhs, &self.rhs).sqrt();
+        for (ti, &v) in t.iter_mut().zip(&self.rhs) {
+            *ti = v / norm;
+        }
+    }
+}
+
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}

@@ -1,0 +1,231 @@
+//! Duffing and fractional Duffing with one harmonic against the closed-form
+//! amplitude equation
+//! `[(k + h Ω^p cos(pπ/2) - m Ω²) a + (3/4) k3 a³]² + [(c Ω + h Ω^p sin(pπ/2)) a]² = F²`,
+//! whose folds are the double roots of the cubic in `s = a²` (zero discriminant).
+
+use ihbm::continuation::{sweep, sweep_param, SweepOptions};
+use ihbm::models::{Duffing, FractionalDuffing};
+use ihbm::results::{BifurcationKind, Curve, Direction, SegmentEnd};
+use std::f64::consts::PI;
+
+/// The one-harmonic problem: coefficients of the cubic in s = a².
+#[derive(Clone, Copy)]
+struct OneHarmonic {
+    m: f64,
+    c: f64,
+    k: f64,
+    k3: f64,
+    h: f64,
+    p: f64,
+    f: f64,
+}
+
+impl OneHarmonic {
+    fn kd(&self, w: f64) -> (f64, f64) {
+        let wp = if self.h == 0.0 { 0.0 } else { self.h * w.powf(self.p) };
+        (
+            self.k + wp * (self.p * PI / 2.0).cos() - self.m * w * w,
+            self.c * w + wp * (self.p * PI / 2.0).sin(),
+        )
+    }
+    /// Relative residual of the amplitude equation at (Ω, a).
+    fn residual(&self, w: f64, a: f64) -> f64 {
+        let (k0, d) = self.kd(w);
+        let lhs = (k0 * a + 0.75 * self.k3 * a.powi(3)).powi(2) + (d * a).powi(2);
+        (lhs - self.f * self.f) / (self.f * self.f)
+    }
+    /// s [(k0 + β s)² + d²] - F² = β² s³ + 2 k0 β s² + (k0² + d²) s - F².
+    fn discriminant(&self, w: f64) -> f64 {
+        let (k0, d) = self.kd(w);
+        let beta = 0.75 * self.k3;
+        let (a, b, c, e) = (beta * beta, 2.0 * k0 * beta, k0 * k0 + d * d, -self.f * self.f);
+        18.0 * a * b * c * e - 4.0 * b.powi(3) * e + b * b * c * c
+            - 4.0 * a * c.powi(3)
+            - 27.0 * a * a * e * e
+    }
+    /// Fold frequencies: sign changes of the discriminant, refined by bisection.
+    fn folds(&self, lo: f64, hi: f64) -> Vec<f64> {
+        let n = 20_000;
+        let mut out = Vec::new();
+        let mut prev = (lo, self.discriminant(lo));
+        for i in 1..=n {
+            let w = lo + (hi - lo) * i as f64 / n as f64;
+            let dw = self.discriminant(w);
+            if dw.signum() != prev.1.signum() {
+                let (mut a, mut b, fa) = (prev.0, w, prev.1);
+                for _ in 0..200 {
+                    let mid = 0.5 * (a + b);
+                    if self.discriminant(mid).signum() == fa.signum() {
+                        a = mid;
+                    } else {
+                        b = mid;
+                    }
+                }
+                out.push(0.5 * (a + b));
+            }
+            prev = (w, dw);
+        }
+        out
+    }
+    /// Real roots a of the amplitude equation at Ω (sorted).
+    fn amplitudes(&self, w: f64) -> Vec<f64> {
+        // Bracket the roots of g(s) = s[(k0 + β s)² + d²] - F² on a fine log grid.
+        let (k0, d) = self.kd(w);
+        let beta = 0.75 * self.k3;
+        let g = |s: f64| s * ((k0 + beta * s).powi(2) + d * d) - self.f * self.f;
+        let mut roots = Vec::new();
+        let grid: Vec<f64> =
+            (0..=4000).map(|i| 10f64.powf(-8.0 + 12.0 * i as f64 / 4000.0)).collect();
+        for win in grid.windows(2) {
+            let (mut a, mut b) = (win[0], win[1]);
+            if g(a).signum() == g(b).signum() {
+                continue;
+            }
+            for _ in 0..200 {
+                let mid = 0.5 * (a + b);
+                if g(mid).signum() == g(a).signum() {
+                    a = mid;
+                } else {
+                    b = mid;
+                }
+            }
+            roots.push((0.5 * (a + b)).sqrt());
+        }
+        roots
+    }
+}
+
+fn one_harmonic_opts() -> SweepOptions {
+    SweepOptions { harmonics: 1, ..Default::default() }
+}
+
+/// Every point on the equation, folds at its turning points, stability and jumps.
+fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
+    assert_eq!(curve.segments.len(), 1, "{:?}", curve.segments);
+    assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd);
+    assert!((curve.points.last().unwrap().omega - hi).abs() < 1e-12 * hi);
+    assert!((curve.points[0].omega - lo).abs() < 1e-12 * lo);
+    let mut worst = 0.0f64;
+    for p in &curve.points {
+        let (a0, a1, b1) = (p.coeffs[0], p.coeffs[1], p.coeffs[2]);
+        assert!(a0.abs() < 1e-12, "odd response expected, a0 = {a0}");
+        worst = worst.max(eq.residual(p.omega, a1.hypot(b1)).abs());
+    }
+    assert!(worst < 1e-10, "amplitude equation violated by {worst:.3e}");
+    for f in &curve.folds {
+        assert!(eq.residual(f.omega, f.coeffs[1].hypot(f.coeffs[2])).abs() < 1e-10);
+    }
+    let expected = eq.folds(lo, hi);
+    assert_eq!(expected.len(), 2, "test setup: the equation should have two folds");
+    let mut got: Vec<f64> = curve.folds.iter().map(|f| f.omega).collect();
+    got.sort_by(f64::total_cmp);
+    assert_eq!(got.len(), 2, "folds {got:?}, expected {expected:?}");
+    for (g, e) in got.iter().zip(&expected) {
+        assert!(
+            (g - e).abs() < 1e-8 * e,
+            "fold at {g}, expected {e} (rel {:.2e})",
+            (g - e).abs() / e
+        );
+    }
+    // Hill: unstable exactly between the folds.
+    let (f0, f1) = (curve.folds[0].after, curve.folds[1].after);
+    for (i, p) in curve.points.iter().enumerate() {
+        let between = i > f0 && i <= f1;
+        assert_eq!(p.stable, !between, "point {i} at Ω = {} (folds after {f0}, {f1})", p.omega);
+    }
+    let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
+    assert_eq!(kinds, vec![BifurcationKind::Fold, BifurcationKind::Fold]);
+    // Jumps: up at the upper fold to the lower branch, down at the lower fold up.
+    assert_eq!(curve.jumps.len(), 2, "{:?}", curve.jumps);
+    let up = curve.jumps.iter().find(|j| j.direction == Direction::Up).unwrap();
+    let down = curve.jumps.iter().find(|j| j.direction == Direction::Down).unwrap();
+    assert!((up.omega - expected[1]).abs() < 1e-8 * expected[1]);
+    assert!((down.omega - expected[0]).abs() < 1e-8 * expected[0]);
+    let roots_up = eq.amplitudes(up.omega);
+    let roots_down = eq.amplitudes(down.omega);
+    assert!(up.from > up.to && down.from < down.to);
+    // Landing amplitudes: the other root of the equation (linear interpolation on the
+    // curve, so to the accuracy of the polyline).
+    assert!((up.to - roots_up[0]).abs() < 2e-2 * roots_up[0], "{up:?} vs {roots_up:?}");
+    assert!(
+        (down.to - roots_down.last().unwrap()).abs() < 2e-2 * down.to,
+        "{down:?} vs {roots_down:?}"
+    );
+}
+
+#[test]
+fn duffing_one_harmonic_matches_amplitude_equation() {
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: 0.2 };
+    let curve = sweep(&model, 0.5, 2.5, &one_harmonic_opts()).unwrap();
+    check_curve(&curve, &eq, 0.5, 2.5);
+}
+
+#[test]
+fn fractional_duffing_one_harmonic_matches_amplitude_equation() {
+    let model = FractionalDuffing { m: 1.0, c: 0.02, k: 1.0, k3: 1.0, h: 0.05, p: 0.5, F: 0.2 };
+    let eq = OneHarmonic { m: 1.0, c: 0.02, k: 1.0, k3: 1.0, h: 0.05, p: 0.5, f: 0.2 };
+    let curve = sweep(&model, 0.5, 2.5, &one_harmonic_opts()).unwrap();
+    check_curve(&curve, &eq, 0.5, 2.5);
+}
+
+#[test]
+fn secant_predictor_traces_the_same_curve() {
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: 0.2 };
+    let opts =
+        SweepOptions { predictor: ihbm::continuation::Predictor::Secant, ..one_harmonic_opts() };
+    let curve = sweep(&model, 0.5, 2.5, &opts).unwrap();
+    check_curve(&curve, &eq, 0.5, 2.5);
+}
+
+#[test]
+fn parameter_continuation_in_force_amplitude() {
+    // At Ω = 1.6 the response to F has an S-shaped curve (two folds in F).
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let curve = sweep_param(&model, "F", 0.01, 1.0, 1.6, &one_harmonic_opts()).unwrap();
+    assert_eq!(curve.parameter, "F");
+    assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd);
+    for p in &curve.points {
+        let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: p.param };
+        let r = eq.residual(1.6, p.coeffs[1].hypot(p.coeffs[2]));
+        assert!(r.abs() < 1e-10, "F = {}: residual {r:.2e}", p.param);
+        assert_eq!(p.omega, 1.6);
+    }
+    // Folds in F: where the cubic in s has a double root as F varies, i.e. where
+    // dF²/ds = 0 for F²(s) = s[(k0 + βs)² + d²]: 3β² s² + 4 k0 β s + k0² + d² = 0.
+    let (k0, d, beta) = (1.0 - 1.6f64 * 1.6, 0.05 * 1.6, 0.75);
+    let disc = (4.0 * k0 * beta).powi(2) - 12.0 * beta * beta * (k0 * k0 + d * d);
+    let mut expected: Vec<f64> = [-1.0, 1.0]
+        .iter()
+        .map(|sg| {
+            let s = (-4.0 * k0 * beta + sg * disc.sqrt()) / (6.0 * beta * beta);
+            (s * ((k0 + beta * s).powi(2) + d * d)).sqrt()
+        })
+        .collect();
+    expected.sort_by(f64::total_cmp);
+    let mut got: Vec<f64> = curve.folds.iter().map(|f| f.param).collect();
+    got.sort_by(f64::total_cmp);
+    assert_eq!(got.len(), 2, "{got:?} vs {expected:?}");
+    for (g, e) in got.iter().zip(&expected) {
+        assert!((g - e).abs() < 1e-8 * e, "fold at F = {g}, expected {e}");
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_naming_the_value() {
+    let model = Duffing::default();
+    let o = SweepOptions::default();
+    let msg = |r: ihbm::Result<Curve>| r.err().expect("should fail").to_string();
+    assert!(msg(sweep(&model, 2.0, 1.0, &o)).contains("2 .. 1"));
+    assert!(msg(sweep(&model, 0.0, 1.0, &o)).contains('0'));
+    assert!(msg(sweep(&model, -1.0, 1.0, &o)).contains("-1"));
+    assert!(msg(sweep(&model, f64::NAN, 1.0, &o)).contains("NaN"));
+    assert!(msg(sweep(&model, 1.0, f64::INFINITY, &o)).contains("inf"));
+    let n0 = SweepOptions { harmonics: 0, ..Default::default() };
+    assert!(msg(sweep(&model, 1.0, 2.0, &n0)).contains("harmonics"));
+    assert!(msg(sweep_param(&model, "nope", 1.0, 2.0, 1.0, &o)).contains("nope"));
+    assert!(msg(sweep_param(&model, "F", 1.0, 2.0, 0.0, &o)).contains("frequency"));
+    let frac = FractionalDuffing::default();
+    assert!(msg(sweep_param(&frac, "p", 0.5, 2.5, 1.0, &o)).contains("2.5"));
+}

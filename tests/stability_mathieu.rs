@@ -1,0 +1,186 @@
+//! A stability change without a fold: the forced damped Mathieu equation
+//! `m x'' + c x' + k (1 + ε cos Ωt) x = F cos Ωt` is linear, so its periodic response
+//! is unique and its curve never folds, yet inside the principal parametric tongue
+//! (Ω ≈ 2√(k/m)) a Floquet multiplier leaves the unit circle through -1. Hill's method
+//! must report that as period doubling, where the monodromy matrix (integrated here
+//! independently with RK4) has a multiplier -1.
+
+use ihbm::balance::Balance;
+use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
+use ihbm::results::BifurcationKind;
+use ihbm::stability::{Hill, StabilityOptions};
+use num_dual::DualNum;
+
+#[derive(Clone)]
+struct Mathieu {
+    m: f64,
+    c: f64,
+    k: f64,
+    eps: f64,
+    f: f64,
+}
+
+const X: &[(usize, f64)] = &[(0, 1.0)];
+
+impl Model for Mathieu {
+    fn name(&self) -> &'static str {
+        "mathieu"
+    }
+    fn dofs(&self) -> &'static [&'static str] {
+        &["x"]
+    }
+    fn params_info(&self) -> &'static [ParamInfo] {
+        const P: [ParamInfo; 5] = [
+            ParamInfo { name: "m", default: 1.0, doc: "" },
+            ParamInfo { name: "c", default: 0.05, doc: "" },
+            ParamInfo { name: "k", default: 1.0, doc: "" },
+            ParamInfo { name: "eps", default: 0.4, doc: "" },
+            ParamInfo { name: "F", default: 0.1, doc: "" },
+        ];
+        &P
+    }
+    fn param_value(&self, i: usize) -> f64 {
+        [self.m, self.c, self.k, self.eps, self.f][i]
+    }
+    fn set_param_value(&mut self, i: usize, v: f64) {
+        *[&mut self.m, &mut self.c, &mut self.k, &mut self.eps, &mut self.f][i] = v;
+    }
+    fn signals(&self) -> &'static [Signal] {
+        const S: [Signal; 3] = [
+            Signal { terms: X, order: Order::Int(0) },
+            Signal { terms: X, order: Order::Int(1) },
+            Signal { terms: X, order: Order::Int(2) },
+        ];
+        &S
+    }
+    fn outputs(&self) -> &'static [Output] {
+        const O: [Output; 1] = [Output { name: "x", terms: X }];
+        &O
+    }
+    /// The parametric term `cos(Ωt) x` doubles the harmonic content like a square.
+    fn degree(&self) -> usize {
+        2
+    }
+    fn residual<D: DualNum<Primitive = f64> + Copy>(
+        &self,
+        p: &[D],
+        _omega: D,
+        phase: f64,
+        s: &[D],
+        out: &mut [D],
+    ) {
+        out[0] = p[0] * s[2] + p[1] * s[1] + p[2] * (p[3] * phase.cos() + 1.0) * s[0]
+            - p[4] * phase.cos();
+    }
+}
+
+const MODEL: Mathieu = Mathieu { m: 1.0, c: 0.05, k: 1.0, eps: 0.4, f: 0.1 };
+
+/// Monodromy matrix of the homogeneous equation by RK4: (trace, determinant).
+fn monodromy(w: f64) -> (f64, f64) {
+    let Mathieu { m, c, k, eps, .. } = MODEL;
+    let rhs =
+        |t: f64, y: [f64; 2]| [y[1], -(c * y[1] + k * (1.0 + eps * (w * t).cos()) * y[0]) / m];
+    let steps = 4000;
+    let dt = 2.0 * std::f64::consts::PI / w / steps as f64;
+    let mut cols = [[1.0, 0.0], [0.0, 1.0]];
+    for y in cols.iter_mut() {
+        let mut t = 0.0;
+        for _ in 0..steps {
+            let k1 = rhs(t, *y);
+            let k2 = rhs(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]]);
+            let k3 = rhs(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]]);
+            let k4 = rhs(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]]);
+            for i in 0..2 {
+                y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+            t += dt;
+        }
+    }
+    (cols[0][0] + cols[1][1], cols[0][0] * cols[1][1] - cols[1][0] * cols[0][1])
+}
+
+/// Largest Floquet exponent real part from the monodromy multipliers.
+fn growth(w: f64) -> f64 {
+    let (tr, det) = monodromy(w);
+    let disc = tr * tr - 4.0 * det;
+    let mu = if disc >= 0.0 { (tr.abs() + disc.sqrt()) / 2.0 } else { det.sqrt() };
+    mu.ln() * w / (2.0 * std::f64::consts::PI)
+}
+
+/// The tongue edges: multiplier -1, i.e. 1 + trace + det = 0.
+fn tongue() -> Vec<f64> {
+    let g = |w: f64| {
+        let (tr, det) = monodromy(w);
+        1.0 + tr + det
+    };
+    let mut edges = Vec::new();
+    let n = 200;
+    let (lo, hi) = (1.5, 2.6);
+    let mut prev = (lo, g(lo));
+    for i in 1..=n {
+        let w = lo + (hi - lo) * i as f64 / n as f64;
+        let gw = g(w);
+        if gw.signum() != prev.1.signum() {
+            let (mut a, mut b) = (prev.0, w);
+            for _ in 0..60 {
+                let mid = 0.5 * (a + b);
+                if g(mid).signum() == g(a).signum() {
+                    a = mid;
+                } else {
+                    b = mid;
+                }
+            }
+            edges.push(0.5 * (a + b));
+        }
+        prev = (w, gw);
+    }
+    edges
+}
+
+#[test]
+fn mathieu_tongue_is_period_doubling_without_fold() {
+    let edges = tongue();
+    assert_eq!(edges.len(), 2, "test setup: one tongue in range, got {edges:?}");
+    let opts = SweepOptions { harmonics: 6, ..Default::default() };
+    let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
+    assert!(curve.folds.is_empty());
+    let pd: Vec<f64> = curve
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::PeriodDoubling)
+        .map(|b| b.omega)
+        .collect();
+    assert_eq!(curve.bifurcations.len(), 2, "{:?}", curve.bifurcations);
+    assert_eq!(pd.len(), 2, "{:?}", curve.bifurcations);
+    for (g, e) in pd.iter().zip(&edges) {
+        assert!((g - e).abs() < 1e-6 * e, "period doubling at {g}, monodromy says {e}");
+    }
+    for p in &curve.points {
+        let inside = p.omega > edges[0] && p.omega < edges[1];
+        let margin = edges.iter().map(|e| (p.omega - e).abs()).fold(f64::INFINITY, f64::min);
+        if margin > 1e-6 {
+            assert_eq!(p.stable, !inside, "Ω = {}", p.omega);
+        }
+    }
+}
+
+#[test]
+fn hill_exponents_match_monodromy_multipliers() {
+    let opts = SweepOptions { harmonics: 6, stability: None, ..Default::default() };
+    let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
+    let mut bal = Balance::new(&MODEL, 6).unwrap();
+    let mut hill = Hill::new(&MODEL, 6).unwrap();
+    for p in &curve.points {
+        let f = hill.analyse(&mut bal, &p.coeffs, p.omega, &StabilityOptions::default()).unwrap();
+        let g = growth(p.omega);
+        assert!(
+            (f.max_real - g).abs() < 1e-7,
+            "Ω = {}: Hill {} vs monodromy {g}",
+            p.omega,
+            f.max_real
+        );
+        assert_eq!(f.exponents.len(), 2);
+    }
+}

@@ -1,0 +1,13 @@
+// Two DOFs but only one equation.
+ihbm::oscillator! {
+    pub struct Bad {
+        params { m = 1.0, k = 1.0, p = 0.5, F = 1.0 }
+        dofs { z1, z2 }
+        let y = z1 - z2;
+        equations {
+            m * D(z1, 2) + k * y = F * cos(omega * t);
+        }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,14 @@
+// Outputs have literal coefficients only (their terms are static).
+ihbm::oscillator! {
+    pub struct Bad {
+        params { m = 1.0, k = 1.0, F = 1.0 }
+        dofs { x }
+        let fk = k * x;
+        equations {
+            m * D(x, 2) + fk = F * cos(omega * t);
+        }
+        outputs { x, fk }
+    }
+}
+
+fn main() {}
