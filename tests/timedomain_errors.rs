@@ -23,6 +23,14 @@ fn bad_steps_and_periods() {
         let msg = invalid_message(simulate(&m, 8.0, &SimOptions { periods, ..Default::default() }));
         assert!(msg.contains("periods") && msg.contains("at least 20"), "{msg}");
     }
+    for tol in [0.0, f64::NAN] {
+        let msg = invalid_message(simulate(
+            &m,
+            8.0,
+            &SimOptions { newton_tol: tol, ..Default::default() },
+        ));
+        assert!(msg.contains("Newton tolerance"), "{msg}");
+    }
     for omega in [0.0, -8.0, f64::NAN] {
         let msg = invalid_message(simulate(&m, omega, &SimOptions::default()));
         assert!(msg.contains("omega"), "{msg}");
@@ -94,7 +102,9 @@ fn stepper_past_capacity() {
     assert!((s.time() - 0.3).abs() < 1e-12);
 }
 
-/// Negative damping: the linear response grows like e^{50 t} until it overflows
+/// Negative damping: the linear response grows like e^{50 t}. The residual stops
+/// being finite once x³ overflows (|x| ≈ 5.6e102, t ≈ ln(5.6e102)/50 ≈ 4.7 s, even
+/// with k3 = 0 since 0 · inf is NaN) or, at the latest, when x itself does
 /// (t ≈ 709/50 ≈ 14 s); the run stops there with the time, not with NaN statistics.
 #[test]
 fn overflowing_run_reports_the_time() {
@@ -102,7 +112,7 @@ fn overflowing_run_reports_the_time() {
     match simulate(&m, 1.0, &SimOptions { periods: 40, ..Default::default() }) {
         Err(Error::Diverged { time, detail }) => {
             println!("diverged at t = {time}: {detail}");
-            assert!((10.0..20.0).contains(&time), "{time}");
+            assert!((4.0..15.0).contains(&time), "{time}");
             assert!(detail.contains("not finite"), "{detail}");
         }
         other => panic!("expected Diverged, got {other:?}"),

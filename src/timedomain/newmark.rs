@@ -148,6 +148,13 @@ impl<'m, M: Model> Stepper<'m, M> {
                 expected: "a finite number > 0 (s)".into(),
             });
         }
+        if !(opts.newton_tol.is_finite() && opts.newton_tol > 0.0) {
+            return Err(Error::InvalidValue {
+                what: "Newton tolerance".into(),
+                value: opts.newton_tol.to_string(),
+                expected: "a finite number > 0 (relative, default 1e-12)".into(),
+            });
+        }
         if !omega.is_finite() {
             return Err(Error::InvalidValue {
                 what: "omega".into(),
