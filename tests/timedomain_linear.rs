@@ -12,7 +12,7 @@
 //!
 //! 1. simulated `max_abs` vs the discrete periodic response: what is left of the
 //!    transient from rest (algebraic for a fractional model) plus the max-between-
-//!    samples refinement (~1e-9); asserted below 1e-8 relative after 400 periods (1e-9 measured);
+//!    samples refinement (~1e-9); asserted below 1e-8 relative after 400 periods (<= 2e-9 measured, the remainder of the transient);
 //! 2. discrete vs exact periodic response: the scheme's consistency error, which the
 //!    symbols predict exactly; we assert the simulated value against the exact one to
 //!    3x the predicted error, and that the predicted error has the scheme's order.
