@@ -38,7 +38,7 @@ pub fn max_abs(samples: &[f64]) -> f64 {
     let n = samples.len();
     for k in 1..n.saturating_sub(1) {
         let (x0, x1, x2) = (samples[k - 1], samples[k], samples[k + 1]);
-        if !(x1.abs() >= x0.abs() && x1.abs() >= x2.abs()) {
+        if x1.abs() < x0.abs() || x1.abs() < x2.abs() {
             continue;
         }
         let refined = if k >= 2 && k + 2 < n {
@@ -82,7 +82,7 @@ fn quartic_extremum(f: &[f64]) -> Option<f64> {
         }
         s -= g / h;
     }
-    if !(s.abs() <= 1.0) {
+    if s.is_nan() || s.abs() > 1.0 {
         return None;
     }
     Some(f[2] + s * (d1 + s * (d2 / 2.0 + s * (d3 / 6.0 + s * d4 / 24.0))))
