@@ -4,6 +4,43 @@
 //! These files live in `models/` beside their study files and are compiled into the
 //! `ihbm` crate itself, so the `ihbm` binary ships them while user crates still
 //! depend on `ihbm` alone (no crate cycle: `models` is a module, not a package).
+//!
+//! A user model is declared the same way:
+//!
+//! ```
+//! use ihbm::Model;
+//!
+//! ihbm::oscillator! {
+//!     /// Unbalanced rotor on a cubic spring: m x'' + c x' + k x + k3 x^3 = me Ω² cos Ωt.
+//!     pub struct Rotor {
+//!         params {
+//!             /// total mass, kg
+//!             m = 2.0,
+//!             /// damping, N s/m
+//!             c = 0.4,
+//!             /// stiffness, N/m
+//!             k = 100.0,
+//!             /// cubic stiffness, N/m^3
+//!             k3 = 1e4,
+//!             /// unbalance (mass times eccentricity), kg m
+//!             me = 1e-3,
+//!         }
+//!         dofs { x }
+//!         equations {
+//!             m * D(x, 2) + c * D(x, 1) + k * x + k3 * x.powi(3)
+//!                 = me * omega.powi(2) * cos(omega * t);
+//!         }
+//!     }
+//! }
+//!
+//! let mut rotor = Rotor::default();
+//! rotor.set_param("c", 0.8).unwrap();
+//! assert_eq!(rotor.c, 0.8);
+//! assert_eq!(rotor.name(), "rotor");
+//! assert_eq!(rotor.degree(), 3);
+//! let sol = ihbm::corrector::solve(&rotor, 5.0, &Default::default(), None).unwrap();
+//! assert!(sol.residual_norm < 1e-9);
+//! ```
 
 pub mod base_excited;
 pub mod chain;

@@ -32,6 +32,10 @@ pub mod study;
 pub mod timedomain;
 
 pub use error::{Error, Result};
+/// Declare a model in the DSL: parameters with defaults, DOFs, `let` aliases,
+/// equations and outputs; generates a struct implementing [`Model`]. The language, its
+/// checks and its diagnostics are described in the book's chapter "Writing your own
+/// model" (`book/src/models.md`) and in `../shared/CONTRACT.md`, section 1.
 pub use ihbm_macros::oscillator;
 pub use model::Model;
 /// Re-exported so generated and user code needs only `ihbm` as a dependency.

@@ -208,8 +208,10 @@ pub trait Model: Send + Sync {
         })
     }
 
-    /// Check what the solvers rely on: fractional orders in [0, 2], finite parameters,
-    /// one equation per DOF. Called by every solver entry point.
+    /// Check what the solvers rely on: finite parameters and fractional orders in
+    /// [0, 2]. Called by every solver entry point. (That there is one equation per DOF
+    /// is a property of `residual`, which writes `dofs().len()` outputs; the macro
+    /// checks it at compile time.)
     fn validate(&self) -> Result<(), Error> {
         for (i, info) in self.params_info().iter().enumerate() {
             let v = self.param_value(i);

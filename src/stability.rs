@@ -334,7 +334,7 @@ impl Hill {
         }
         exps.sort_by(|a, b| b.re.total_cmp(&a.re));
         let max_real = exps.first().map_or(f64::NEG_INFINITY, |l| l.re);
-        Ok(Floquet { stable: !(max_real > opts.tol * omega), max_real, exponents: exps, refined })
+        Ok(Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined })
     }
 
     /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution.
@@ -361,8 +361,16 @@ impl Hill {
             for j in 0..nsig {
                 let p = &mut self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
                 p.fill(0.0);
+                let g = &grads[(e * nsig + j) * ns..][..ns];
+                if g.iter().all(|&x| x == g[0]) {
+                    // A linear term: multiplication by a constant projects to g0·I.
+                    for l in 0..len {
+                        p[l * len + l] = g[0];
+                    }
+                    continue;
+                }
                 for s in 0..ns {
-                    let g = grads[(e * nsig + j) * ns + s];
+                    let g = g[s];
                     if g == 0.0 {
                         continue;
                     }
@@ -447,7 +455,7 @@ impl Hill {
         );
         let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
         self.cands.clear();
-        if !(min_pivot > 1e-12 * scale) {
+        if min_pivot.is_nan() || min_pivot <= 1e-12 * scale {
             return self.candidates_generalized(omega);
         }
         // Companion: [[0, I, ...], ..., [-L⁻¹M_0, ..., -L⁻¹M_{d-1}]].
@@ -611,7 +619,7 @@ impl Hill {
         let mut v = lu.solve(&b);
         let u = v.clone();
         let norm = dot(&u, &v);
-        if !(norm.norm() > 0.0) || !norm.re.is_finite() {
+        if norm.norm() == 0.0 || !norm.re.is_finite() || !norm.im.is_finite() {
             return None;
         }
         for i in 0..m {
@@ -623,7 +631,7 @@ impl Hill {
             let rhs = &dt * &v;
             let x = t.partial_piv_lu().solve(&rhs);
             let ux = dot(&u, &x);
-            if !(ux.norm() > 0.0) || !ux.re.is_finite() {
+            if ux.norm() == 0.0 || !ux.re.is_finite() || !ux.im.is_finite() {
                 return None;
             }
             let uv = dot(&u, &v);

@@ -127,6 +127,9 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
             (g - e).abs() / e
         );
     }
+    let errs: Vec<String> =
+        got.iter().zip(&expected).map(|(g, e)| format!("{:.1e}", (g - e).abs() / e)).collect();
+    eprintln!("worst amplitude-equation residual {worst:.1e}; relative fold errors {errs:?}");
     // Hill: unstable exactly between the folds.
     let (f0, f1) = (curve.folds[0].after, curve.folds[1].after);
     for (i, p) in curve.points.iter().enumerate() {
@@ -216,7 +219,7 @@ fn parameter_continuation_in_force_amplitude() {
 fn bad_input_is_an_error_naming_the_value() {
     let model = Duffing::default();
     let o = SweepOptions::default();
-    let msg = |r: ihbm::Result<Curve>| r.err().expect("should fail").to_string();
+    let msg = |r: ihbm::Result<Curve>| r.map(|_| ()).expect_err("should fail").to_string();
     assert!(msg(sweep(&model, 2.0, 1.0, &o)).contains("2 .. 1"));
     assert!(msg(sweep(&model, 0.0, 1.0, &o)).contains('0'));
     assert!(msg(sweep(&model, -1.0, 1.0, &o)).contains("-1"));

@@ -114,6 +114,9 @@ impl Lin {
     }
 }
 
+/// DOF terms sharing one non-literal coefficient factor (atoms with powers).
+type Group = (BTreeMap<Atom, i32>, Vec<(usize, f64)>);
+
 /// The derivative order of a signal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum OrderKey {
@@ -286,8 +289,9 @@ fn harmonic(arg: &Expr, call_span: Sp, call_text: &str) -> syn::Result<u32> {
             format!(
                 "`{call_text}` is not allowed: `cos`/`sin` may only be forcing \
                  `cos(k * omega * t)` / `sin(k * omega * t)` with k a positive integer \
-                 literal (`k *` optional); a trigonometric function of DOFs or parameters \
-                 is not polynomial"
+                 literal (`k *` optional), times coefficients; a trigonometric function of \
+                 DOFs is not polynomial, and a phase shift is written \
+                 `A * cos(omega * t) + B * sin(omega * t)`"
             ),
         )
     };
@@ -574,7 +578,7 @@ impl<'a> Ctx<'a> {
             );
         }
         // Group the DOF terms by their non-literal coefficient factor.
-        let mut groups: Vec<(BTreeMap<Atom, i32>, Vec<(usize, f64)>)> = Vec::new();
+        let mut groups: Vec<Group> = Vec::new();
         for (dof, poly) in &lin.dofs {
             for coef in &poly.0 {
                 match groups.iter_mut().find(|(a, _)| *a == coef.atoms) {
@@ -962,7 +966,7 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
         degree = degree.max(li.degree).max(ri.degree);
         max_k = max_k.max(li.max_k).max(ri.max_k);
         let node = match r {
-            Node::Lit(v) if v == 0.0 => l,
+            Node::Lit(0.0) => l,
             r => Node::Sub(Box::new(l), Box::new(r)),
         };
         equations.push(node);
@@ -990,4 +994,53 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
         Analysis { signals: cx.signals, aliases: cx.aliases, equations, outputs, degree, max_k };
     compact(&mut a);
     Ok(a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn analyze_str(src: &str) -> syn::Result<Analysis> {
+        let def: ModelDef = syn::parse_str(src)?;
+        analyze(&def)
+    }
+
+    #[test]
+    fn literal_factors_and_parameter_coefficients_split_signals() {
+        let a = analyze_str(
+            "struct S { params { a = 1.0, p = 0.5 } dofs { x, y }
+               equations {
+                 D(x, 2) + D(2.0 * x - 2.0 * y, p) + D(x - y, p) + D(a * x + y, 1) = 0.0;
+                 D(y, 2) + x.powi(2) * y = cos(3 * omega * t);
+               } }",
+        )
+        .unwrap();
+        let keys: Vec<(Vec<(usize, f64)>, OrderKey)> =
+            a.signals.iter().map(|s| (s.terms.clone(), s.order)).collect();
+        // D(2x - 2y, p) and D(x - y, p) share one signal; D(a x + y, 1) = a Dx + Dy.
+        assert_eq!(
+            keys,
+            vec![
+                (vec![(0, 1.0)], OrderKey::Int(2)),
+                (vec![(0, 1.0), (1, -1.0)], OrderKey::Param(1)),
+                (vec![(0, 1.0)], OrderKey::Int(1)),
+                (vec![(1, 1.0)], OrderKey::Int(1)),
+                (vec![(1, 1.0)], OrderKey::Int(2)),
+                (vec![(0, 1.0)], OrderKey::Int(0)),
+                (vec![(1, 1.0)], OrderKey::Int(0)),
+            ]
+        );
+        assert_eq!((a.degree, a.max_k), (3, 3));
+    }
+
+    #[test]
+    fn unused_aliases_add_no_signals() {
+        let a = analyze_str(
+            "struct S { params { k = 1.0 } dofs { x } let v = D(x, 1);
+               equations { D(x, 2) + k * x = cos(omega * t); } }",
+        )
+        .unwrap();
+        assert_eq!(a.signals.len(), 2);
+        assert!(!a.aliases[0].2);
+    }
 }

@@ -25,19 +25,16 @@ fn float(v: f64) -> TokenStream {
     }
 }
 
-/// `QuarterCar` → `quarter-car`.
+/// `QuarterCar` → `quarter-car` (underscores become dashes too).
 fn kebab(name: &str) -> String {
     let mut out = String::new();
-    for (i, ch) in name.chars().enumerate() {
-        if ch.is_uppercase() {
-            if i > 0 {
-                out.push('-');
-            }
-            out.extend(ch.to_lowercase());
-        } else if ch == '_' {
+    for ch in name.chars() {
+        let boundary = ch == '_' || ch.is_uppercase();
+        if boundary && !out.is_empty() && !out.ends_with('-') {
             out.push('-');
-        } else {
-            out.push(ch);
+        }
+        if ch != '_' {
+            out.extend(ch.to_lowercase());
         }
     }
     out
@@ -363,5 +360,17 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
                 #(#outs)*
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn kebab_case_names() {
+        assert_eq!(super::kebab("QuarterCar"), "quarter-car");
+        assert_eq!(super::kebab("Duffing"), "duffing");
+        assert_eq!(super::kebab("FractionalDuffing"), "fractional-duffing");
+        assert_eq!(super::kebab("Two_Mass"), "two-mass");
+        assert_eq!(super::kebab("Chain3"), "chain3");
     }
 }

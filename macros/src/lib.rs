@@ -1,8 +1,8 @@
 //! The `oscillator!` proc-macro of ihbm: a model declared as equations becomes a struct
 //! implementing `ihbm::model::Model`, with every symbolic check done at compile time.
 //!
-//! Pipeline: [`parse`] (surface syntax) → [`analyze`] (names, aliases, polynomial and
-//! forcing checks, signals) → [`codegen`] (struct, `Default`, `Model` impl). See the
+//! Pipeline: `parse` (surface syntax) → `analyze` (names, aliases, polynomial and
+//! forcing checks, signals) → `codegen` (struct, `Default`, `Model` impl). See the
 //! `ihbm` crate documentation for the language itself.
 
 mod analyze;
@@ -11,7 +11,47 @@ mod parse;
 
 use proc_macro::TokenStream;
 
-/// Declare an oscillator model; see `ihbm::oscillator` for the language.
+/// Declare an oscillator model: a struct with one `pub f64` field per parameter,
+/// `Default` with the declared values, and an implementation of `ihbm::model::Model`.
+///
+/// ```text
+/// ihbm::oscillator! {
+///     /// Docs: become the struct docs and `Model::description()`.
+///     #[name = "my-model"]            // optional; default: kebab-case of the struct name
+///     pub struct MyModel {
+///         params {
+///             /// doc (units): becomes the field doc and `ParamInfo::doc`
+///             m = 1.0, c = 0.1, k = 1.0, k3 = 1.0, h = 0.1, p = 0.5, F = 0.5,
+///         }
+///         dofs { x }
+///         let v = D(x, 1);            // aliases, expanded where used
+///         equations {                 // one `lhs = rhs;` per DOF
+///             m * D(x, 2) + c * v + k * x + k3 * x.powi(3) + h * D(x, p) = F * cos(omega * t);
+///         }
+///         outputs { x }               // DOFs, aliases, or `name = linear combination`
+///     }
+/// }
+/// ```
+///
+/// The language:
+/// - terms are polynomial in the DOFs and their derivatives: `+ - *`, parentheses,
+///   `.powi(k)` with a literal `k >= 0`, division by coefficients only;
+/// - `D(e, n)`: derivative of order `n` (an integer literal, or a parameter name for a
+///   fractional order, steady-state sense) of `e`, which must be linear in the DOFs (a
+///   DOF, an alias of a linear combination, or a linear combination with
+///   parameter/literal coefficients). A combination with literal coefficients is one
+///   signal (`D(z1 - z2, p)`); parameter coefficients are pulled outside;
+/// - coefficients are parameters, numeric literals and `omega` (the forcing frequency
+///   Ω, e.g. an unbalance force `m * e * omega.powi(2) * cos(omega * t)`);
+/// - forcing is `cos(k * omega * t)` / `sin(k * omega * t)` with `k` a positive integer
+///   literal (`k *` optional), multiplied by coefficients only;
+/// - `omega`, `t` and `D` are reserved names; every name is declared once.
+///
+/// Anything else is a compile error spanned on the offending code, saying what is
+/// allowed. The generated residual is straight-line code over the signal and parameter
+/// slices (no allocation per sample), generic over dual numbers so that every
+/// derivative the solvers need comes from it. Generated code names only `::ihbm::...`,
+/// so a user crate needs `ihbm` alone.
 #[proc_macro]
 pub fn oscillator(input: TokenStream) -> TokenStream {
     let def = syn::parse_macro_input!(input as parse::ModelDef);

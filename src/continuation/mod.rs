@@ -118,7 +118,8 @@ pub struct SweepOptions {
     pub max_steps: usize,
     /// When a branch runs away.
     pub amplitude_bound: AmplitudeBound,
-    /// Stability of every point; `None` skips it (all points reported stable).
+    /// Stability of every point; `None` skips it: all points are then reported stable,
+    /// no stability changes are found, and jumps may land on unstable branches.
     pub stability: Option<StabilityOptions>,
     /// Harmonic convergence study; `None` runs once with `harmonics`.
     pub convergence: Option<ConvergenceOptions>,
@@ -241,7 +242,8 @@ fn check_options(o: &SweepOptions) -> Result<()> {
             expected: "0 < min <= initial <= max, finite".into(),
         });
     }
-    if !(o.tol > 0.0) || o.max_iter == 0 || !(o.max_turn > 0.0) {
+    let positive = |x: f64| x > 0.0;
+    if !positive(o.tol) || o.max_iter == 0 || !positive(o.max_turn) {
         return Err(Error::InvalidValue {
             what: "corrector settings".into(),
             value: format!("tol {} max_iter {} max_turn {}", o.tol, o.max_iter, o.max_turn),

@@ -157,7 +157,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             return Err(format!("non-finite residual at Ω = {:.6}", self.omega(y)));
         }
         let pivots = self.lu.factor();
-        if !(pivots > 1e-15) {
+        if pivots.is_nan() || pivots <= 1e-15 {
             return Err(format!("singular bordered Jacobian at Ω = {:.6}", self.omega(y)));
         }
         self.lu.solve(&mut self.rhs);

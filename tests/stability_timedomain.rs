@@ -1,0 +1,177 @@
+//! Stability verdicts against time integration.
+//!
+//! 1. Duffing (integer order): start exactly on a harmonic balance point plus a small
+//!    perturbation and integrate (RK4, written here): from a point Hill flags
+//!    unstable the perturbation grows and the motion leaves the branch; from a stable
+//!    point it decays.
+//! 2. Quarter car with a fractional element in its multi-valued region: integrated from
+//!    rest with `ihbm::timedomain::simulate`, the steady response settles on one of the
+//!    stable branches, never on the one Hill flags unstable. (The time-domain solver
+//!    starts from rest only, so a perturbed start is shown on the integer-order model.)
+
+use ihbm::balance::Balance;
+use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::models::{Duffing, QuarterCar};
+use ihbm::stability::{Hill, StabilityOptions};
+use ihbm::timedomain::{simulate, SimOptions};
+
+const D: Duffing = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+
+/// State (x, x') at θ = 0 of a coefficient vector with N harmonics.
+fn state(coeffs: &[f64], n: usize, omega: f64) -> [f64; 2] {
+    let x = coeffs[..=n].iter().sum();
+    let v = (1..=n).map(|k| k as f64 * omega * coeffs[n + k]).sum();
+    [x, v]
+}
+
+/// Integrate the Duffing oscillator from `y0` at t = 0 for `periods` periods; the
+/// state after each period.
+fn integrate(y0: [f64; 2], omega: f64, periods: usize) -> Vec<[f64; 2]> {
+    let f = |t: f64, y: [f64; 2]| {
+        [y[1], (D.F * (omega * t).cos() - D.c * y[1] - D.k * y[0] - D.k3 * y[0].powi(3)) / D.m]
+    };
+    let steps = 2000;
+    let dt = 2.0 * std::f64::consts::PI / omega / steps as f64;
+    let mut y = y0;
+    let mut out = Vec::new();
+    for p in 0..periods {
+        for s in 0..steps {
+            let t = (p * steps + s) as f64 * dt;
+            let k1 = f(t, y);
+            let k2 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]]);
+            let k3 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]]);
+            let k4 = f(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]]);
+            for i in 0..2 {
+                y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+        }
+        out.push(y);
+    }
+    out
+}
+
+#[test]
+fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
+    let n = 9;
+    let curve = sweep(&D, 0.5, 2.5, &SweepOptions { harmonics: n, ..Default::default() }).unwrap();
+    assert_eq!(curve.folds.len(), 2);
+    let mut bal = Balance::new(&D, n).unwrap();
+    let mut hill = Hill::new(&D, n).unwrap();
+    let so = StabilityOptions::default();
+    let growth: Vec<f64> = curve
+        .points
+        .iter()
+        .map(|p| hill.analyse(&mut bal, &p.coeffs, p.omega, &so).unwrap().max_real)
+        .collect();
+    // The most unstable point of the middle branch, and a stable upper-branch point
+    // at a similar frequency.
+    let (iu, &sigma) = growth.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
+    let u = &curve.points[iu];
+    assert!(!u.stable && sigma > 0.0);
+    let is = (0..curve.folds[0].after)
+        .filter(|&i| curve.points[i].stable)
+        .min_by(|&a, &b| {
+            (curve.points[a].omega - u.omega)
+                .abs()
+                .total_cmp(&(curve.points[b].omega - u.omega).abs())
+        })
+        .unwrap();
+    let s = &curve.points[is];
+    let horizon = 25.0 / sigma;
+    for (p, unstable) in [(u, true), (s, false)] {
+        let y0 = state(&p.coeffs, n, p.omega);
+        let delta = 1e-5 * y0[0].abs().max(y0[1].abs());
+        let period = 2.0 * std::f64::consts::PI / p.omega;
+        let periods = (horizon / period).ceil() as usize;
+        let traj = integrate([y0[0] + delta, y0[1]], p.omega, periods);
+        // The harmonic balance state at θ = 0 recurs every period on the branch.
+        let dist = |y: &[f64; 2]| (y[0] - y0[0]).hypot((y[1] - y0[1]) / p.omega);
+        let end = dist(traj.last().unwrap());
+        if unstable {
+            assert!(
+                end > 1e3 * delta,
+                "Ω = {}: perturbation {delta:.1e} only grew to {end:.1e}",
+                p.omega
+            );
+        } else {
+            let first = dist(&traj[0]);
+            assert!(end < 0.1 * first.max(delta), "Ω = {}: {first:.1e} -> {end:.1e}", p.omega);
+        }
+    }
+}
+
+#[test]
+fn quarter_car_from_rest_settles_on_a_stable_branch() {
+    let car = QuarterCar { F: 0.03, k3: 5e6, ..Default::default() };
+    let curve = sweep(&car, 1.0, 100.0, &SweepOptions::default()).unwrap();
+    assert_eq!(curve.folds.len(), 2);
+    let omega = 0.5 * (curve.folds[0].omega + curve.folds[1].omega);
+    // The three branch values of z1's max_abs at this Ω, with their stability.
+    let mut branches: Vec<(f64, bool)> = curve
+        .points
+        .windows(2)
+        .filter(|w| {
+            (w[0].omega - omega) * (w[1].omega - omega) <= 0.0 && w[0].stable == w[1].stable
+        })
+        .map(|w| {
+            let t = (omega - w[0].omega) / (w[1].omega - w[0].omega);
+            let a = w[0].outputs[0].max_abs;
+            (a + t * (w[1].outputs[0].max_abs - a), w[0].stable)
+        })
+        .collect();
+    branches.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert_eq!(branches.len(), 3, "{branches:?}");
+    assert_eq!(branches.iter().map(|b| b.1).collect::<Vec<_>>(), [true, false, true]);
+    let sim = simulate(&car, omega, &SimOptions { periods: 300, ..Default::default() }).unwrap();
+    let z1 = sim.outputs[0].max_abs;
+    let rel = |a: f64| (z1 - a).abs() / a;
+    let nearest = branches.iter().min_by(|a, b| rel(a.0).total_cmp(&rel(b.0))).unwrap();
+    assert!(nearest.1, "settled near the unstable branch: {z1} vs {branches:?}");
+    assert!(rel(nearest.0) < 2e-2, "{z1} vs {branches:?}");
+    assert!(rel(branches[1].0) > 0.1, "{z1} vs {branches:?}");
+}
+
+/// Road amplitude 10 cm, k3 = 5000 kN/m: above the wheel-hop region a complex pair of
+/// Floquet exponents (Im λ ≈ 17 rad/s, the body mode) crosses into Re λ > 0 between
+/// about 57 and 62 rad/s without any fold: a torus (Neimark–Sacker) bubble. Time
+/// integration from rest agrees: outside the bubble it settles on the harmonic
+/// balance solution, inside it does not.
+#[test]
+fn quarter_car_torus_bubble_is_confirmed_in_time() {
+    let car = QuarterCar { F: 0.1, k3: 5e6, ..Default::default() };
+    let curve = sweep(&car, 40.0, 80.0, &SweepOptions::default()).unwrap();
+    assert!(curve.folds.is_empty());
+    let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
+    assert_eq!(kinds, [ihbm::results::BifurcationKind::Torus; 2]);
+    let (a, b) = (curve.bifurcations[0].omega, curve.bifurcations[1].omega);
+    assert!(a > 50.0 && b < 70.0 && a < b);
+    let hb = |w: f64| {
+        let win = curve
+            .points
+            .windows(2)
+            .find(|w2| (w2[0].omega - w) * (w2[1].omega - w) <= 0.0)
+            .unwrap();
+        let t = (w - win[0].omega) / (win[1].omega - win[0].omega);
+        win[0].outputs[0].max_abs + t * (win[1].outputs[0].max_abs - win[0].outputs[0].max_abs)
+    };
+    // Near the bubble the decay is slow (Re λ small): compare well outside it.
+    for (w, inside) in [(a - 5.0, false), (0.5 * (a + b), true), (b + 8.0, false)] {
+        let sim = simulate(&car, w, &SimOptions { periods: 600, ..Default::default() }).unwrap();
+        let rel = (sim.outputs[0].max_abs - hb(w)).abs() / hb(w);
+        if inside {
+            assert!(
+                rel > 0.2,
+                "Ω = {w}: time response {} on the unstable HB branch {}",
+                sim.outputs[0].max_abs,
+                hb(w)
+            );
+        } else {
+            assert!(
+                rel < 5e-3,
+                "Ω = {w}: time response {} vs HB {}",
+                sim.outputs[0].max_abs,
+                hb(w)
+            );
+        }
+    }
+}

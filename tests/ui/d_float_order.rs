@@ -1,0 +1,14 @@
+// A fractional order must be a parameter, not a literal.
+ihbm::oscillator! {
+    pub struct Bad {
+        params { m = 1.0, k = 1.0, p = 0.5, F = 1.0 }
+        dofs { z1, z2 }
+        let y = z1 - z2;
+        equations {
+            m * D(z1, 2) + k * D(y, 0.5) = 0.0;
+            m * D(z2, 2) + k * z2 = F * cos(omega * t);
+        }
+    }
+}
+
+fn main() {}
