@@ -75,3 +75,21 @@ proptest! {
         }
     }
 }
+
+/// The recorded trajectory is the run itself: same length as the steps, and the
+/// statistics recomputed from its last 10 periods are the reported ones.
+#[test]
+fn recorded_trajectory_matches_statistics() {
+    let model = QuarterCar::default();
+    let sim =
+        simulate(&model, 8.0, &SimOptions { periods: 20, record: true, ..Default::default() })
+            .unwrap();
+    let tr = sim.trajectory.as_ref().unwrap();
+    assert_eq!(tr.time.len(), sim.steps + 1);
+    assert_eq!(tr.names, ["z1", "z2", "y"]);
+    for (i, o) in sim.outputs.iter().enumerate() {
+        let tail = &tr.outputs[i][sim.steps - 4000..];
+        assert_eq!(ihbm::timedomain::steady::max_abs(tail), o.max_abs);
+        assert_eq!(ihbm::timedomain::steady::mean(tail), o.mean);
+    }
+}

@@ -8,12 +8,41 @@
 //! fast convolution ([`Memory::Fast`], `O(n log² n)`) or the direct sum
 //! ([`Memory::Naive`], `O(n²)`).
 //!
-//! The run starts from rest at `t = 0` with the Caputo derivative from 0 (equal to the
-//! Riemann–Liouville one for zero initial data, see [`newmark`]). Such a run reaches
-//! the periodic steady state only algebraically (the fractional memory leaves a
-//! transient decaying like a power of `t`, not an exponential), so [`simulate`]
-//! reports a `drift` figure: the relative change of `max_abs` between the last two
-//! blocks of 10 periods.
+//! The run starts from rest at `t = 0` with the Caputo derivative from 0, which for
+//! zero initial displacement and velocity equals the Riemann–Liouville derivative, so
+//! the plain quadrature needs no starting correction (see [`newmark`]).
+//!
+//! # Accuracy (measured by the tests in `tests/timedomain_*.rs`)
+//!
+//! - Observed orders over a fixed horizon from rest: GL 0.9–1.2, BDF2 2.00 on the
+//!   fractional Duffing (p = 0.5 and 1.5) and the quarter car. Newmark is second
+//!   order, so GL limits the whole scheme to first order.
+//! - For a linear model the discrete scheme has an exact periodic response (trapezoid
+//!   symbol `(2/dt) i tan(Ω dt/2)` for derivatives, `(δ(e^{-iΩdt})/dt)^q` for `D^q`);
+//!   the simulated `max_abs` matches it to ~2e-9, and its distance to the exact
+//!   response at the default T/400 is 3e-6..9e-5 (BDF2) and 4e-4..5e-3 (GL).
+//! - Quarter car, k3 = 5e6, F = 0.01/0.02, Ω = 8 and 60 rad/s, BDF2, T/400, 20 s:
+//!   `max_abs` within 4e-5 of harmonic balance (N = 9) for every output; halving dt
+//!   divides the gap by 4, doubling the time changes it by < 2e-7.
+//!
+//! # The transient from rest is algebraic
+//!
+//! The fractional memory makes the approach to the periodic state a power law in
+//! `t`, not an exponential: on a linear oscillator (p = 0.3) the gap to the periodic
+//! response falls by a steady factor ~6.5 per doubling of `t` (≈ t^-2.7); on the
+//! quarter car's body motion at 60 rad/s it is 1.3e-7 at 20 s, 4e-8 at 40 s.
+//! [`simulate`] reports `drift` (relative change of `max_abs` between the last two
+//! blocks of 10 periods) so a user can see whether a run was long enough. Starting
+//! from the harmonic-balance state instead would not help: the Caputo history
+//! before `t = 0` would be missing and leave a slower `t^-p` tail.
+//!
+//! # Choosing dt and periods
+//!
+//! The default `dt = T/400` gives ~1e-5 relative with BDF2. Steps coarser than
+//! [`MIN_STEPS_PER_PERIOD`] per period of the highest forcing harmonic are refused.
+//! The default 200 periods is 20 s at Ω ≈ 63 rad/s; at higher Ω, or for lightly
+//! damped models, check `drift`. With the fast memory a run costs about 0.65 µs per
+//! step for the quarter car (1e5 steps in ~65 ms; the direct sum would take ~5 s).
 //!
 //! ```
 //! use ihbm::models::QuarterCar;

@@ -148,6 +148,13 @@ impl<'m, M: Model> Stepper<'m, M> {
                 expected: "a finite number > 0 (s)".into(),
             });
         }
+        if !(opts.newton_tol.is_finite() && opts.newton_tol > 0.0) {
+            return Err(Error::InvalidValue {
+                what: "Newton tolerance".into(),
+                value: opts.newton_tol.to_string(),
+                expected: "a finite number > 0 (relative, default 1e-12)".into(),
+            });
+        }
         if !omega.is_finite() {
             return Err(Error::InvalidValue {
                 what: "omega".into(),
@@ -294,11 +301,20 @@ impl<'m, M: Model> Stepper<'m, M> {
             for (r, res) in self.r.iter_mut().zip(&self.res) {
                 *r = res.re;
             }
-            if !solve_dense(&mut self.jac, &mut self.r, n) {
+            if self.r.iter().any(|r| !r.is_finite()) {
                 return Err(Error::Diverged {
                     time: t,
-                    detail: "singular or non-finite Jacobian of the step equations".into(),
+                    detail: "the residual is not finite: the state overflowed".into(),
                 });
+            }
+            if !solve_dense(&mut self.jac, &mut self.r, n) {
+                let detail = if initial {
+                    "the equations at t = 0 do not determine the initial accelerations \
+                     (singular Jacobian): every DOF needs an inertia term D(x, 2)"
+                } else {
+                    "singular or non-finite Jacobian of the step equations"
+                };
+                return Err(Error::Diverged { time: t, detail: detail.into() });
             }
             let mut step_norm = 0.0f64;
             let mut a_norm = 0.0f64;

@@ -1,9 +1,10 @@
 //! Steady-state statistics of a sampled output: largest |x| and mean over a window.
 //!
 //! Samples are `dt` apart. The largest |x| of the continuous signal lies between
-//! samples; a parabola through the three samples around each local maximum of |x|
-//! recovers it to `O(dt³)` relative (about 1e-9 at 400 steps per period, where the
-//! raw samples alone could be low by `1 - cos(π/400) ≈ 3e-5`). The mean is the
+//! samples; the quartic through the five samples around each local maximum of |x|
+//! recovers it to `O(dt⁵)` (below 1e-9 relative at 400 steps per period, where the
+//! raw samples alone can be low by `1 - cos(π/400) ≈ 3e-5` and a parabola is off by
+//! ~5e-7 on a signal with a third harmonic). The mean is the
 //! trapezoidal average, spectrally accurate over whole periods.
 
 use serde::Serialize;
@@ -13,7 +14,7 @@ use serde::Serialize;
 pub struct SteadyOutput {
     /// Output name (the model's).
     pub name: String,
-    /// Largest |x(t)| over the last 10 periods (parabolic refinement between samples).
+    /// Largest |x(t)| over the last 10 periods (quartic refinement between samples).
     pub max_abs: f64,
     /// Time average over the last 10 periods.
     pub mean: f64,
@@ -23,31 +24,68 @@ pub struct SteadyOutput {
 }
 
 /// Largest |x| over `samples` (equally spaced, both ends included), refined between
-/// samples by a parabola through each local maximum of |x|.
+/// samples at each local maximum of |x| by the quartic through the five samples
+/// around it (error `O(dt⁵)`; a parabola through three is used next to the ends).
 ///
 /// ```
 /// use ihbm::timedomain::steady::max_abs;
 /// let n = 400;
 /// let x: Vec<f64> = (0..=n).map(|k| (0.3 + k as f64 * std::f64::consts::TAU / n as f64).cos()).collect();
-/// assert!((max_abs(&x) - 1.0).abs() < 1e-9);
+/// assert!((max_abs(&x) - 1.0).abs() < 1e-12);
 /// ```
 pub fn max_abs(samples: &[f64]) -> f64 {
     let mut best = samples.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    for w in samples.windows(3) {
-        let (x0, x1, x2) = (w[0], w[1], w[2]);
-        if x1.abs() >= x0.abs() && x1.abs() >= x2.abs() {
-            let curv = x2 - 2.0 * x1 + x0;
-            if curv != 0.0 {
-                let shift = (x2 - x0) / (2.0 * curv);
-                // Only a vertex between the neighbours is a refinement of this maximum.
-                if shift.abs() <= 1.0 {
-                    let vertex = x1 - (x2 - x0) * (x2 - x0) / (8.0 * curv);
-                    best = best.max(vertex.abs());
-                }
-            }
+    let n = samples.len();
+    for k in 1..n.saturating_sub(1) {
+        let (x0, x1, x2) = (samples[k - 1], samples[k], samples[k + 1]);
+        if x1.abs() < x0.abs() || x1.abs() < x2.abs() {
+            continue;
+        }
+        let refined = if k >= 2 && k + 2 < n {
+            quartic_extremum(&samples[k - 2..=k + 2])
+        } else {
+            parabola_extremum(x0, x1, x2)
+        };
+        if let Some(v) = refined {
+            best = best.max(v.abs());
         }
     }
     best
+}
+
+/// Vertex of the parabola through `(-1, x0), (0, x1), (1, x2)`, if it lies in [-1, 1].
+fn parabola_extremum(x0: f64, x1: f64, x2: f64) -> Option<f64> {
+    let curv = x2 - 2.0 * x1 + x0;
+    if curv == 0.0 || ((x2 - x0) / (2.0 * curv)).abs() > 1.0 {
+        return None;
+    }
+    Some(x1 - (x2 - x0) * (x2 - x0) / (8.0 * curv))
+}
+
+/// Extremum in [-1, 1] of the quartic through `(j, f[j + 2])`, `j = -2..=2`, by Newton
+/// on its derivative from the parabola's vertex.
+fn quartic_extremum(f: &[f64]) -> Option<f64> {
+    // Derivatives at 0 of the interpolating quartic (the 5-point stencils are exact).
+    let d1 = (f[0] - 8.0 * f[1] + 8.0 * f[3] - f[4]) / 12.0;
+    let d2 = (-f[0] + 16.0 * f[1] - 30.0 * f[2] + 16.0 * f[3] - f[4]) / 12.0;
+    let d3 = (-f[0] + 2.0 * f[1] - 2.0 * f[3] + f[4]) / 2.0;
+    let d4 = f[0] - 4.0 * f[1] + 6.0 * f[2] - 4.0 * f[3] + f[4];
+    if d2 == 0.0 {
+        return None;
+    }
+    let mut s = -d1 / d2;
+    for _ in 0..8 {
+        let g = d1 + s * (d2 + s * (d3 / 2.0 + s * d4 / 6.0));
+        let h = d2 + s * (d3 + s * d4 / 2.0);
+        if h == 0.0 {
+            break;
+        }
+        s -= g / h;
+    }
+    if s.is_nan() || s.abs() > 1.0 {
+        return None;
+    }
+    Some(f[2] + s * (d1 + s * (d2 / 2.0 + s * (d3 / 6.0 + s * d4 / 24.0))))
 }
 
 /// Trapezoidal mean of equally spaced samples (both ends included).
@@ -76,4 +114,60 @@ pub fn summarize(name: &str, samples: &[f64], window: usize) -> SteadyOutput {
     let max_prev = max_abs(prev);
     let drift = if max_last > 0.0 { (max_last - max_prev).abs() / max_last } else { 0.0 };
     SteadyOutput { name: name.to_string(), max_abs: max_last, mean: mean(last), drift }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::TAU;
+
+    fn signal(t: f64) -> f64 {
+        0.3 + (t + 0.2).cos() - 0.4 * (3.0 * t + 1.0).sin()
+    }
+
+    /// Over 10 whole periods at 400 samples per period: the trapezoid mean is the
+    /// constant term (exact for trigonometric polynomials of low degree), and the
+    /// refined max equals a dense brute-force search (1e6 points, then a golden
+    /// section) to 1e-8 relative, where the raw samples alone miss by more.
+    #[test]
+    fn mean_and_max_of_a_known_signal() {
+        let n = 4000;
+        let x: Vec<f64> = (0..=n).map(|k| signal(k as f64 * 10.0 * TAU / n as f64)).collect();
+        assert!((mean(&x) - 0.3).abs() < 1e-14);
+        let mut best = (0.0f64, 0.0f64);
+        for k in 0..1_000_000 {
+            let t = k as f64 * TAU / 1e6;
+            if signal(t).abs() > best.1 {
+                best = (t, signal(t).abs());
+            }
+        }
+        let (mut a, mut b) = (best.0 - 1e-5, best.0 + 1e-5);
+        for _ in 0..100 {
+            let (c, d) = (b - 0.618 * (b - a), a + 0.618 * (b - a));
+            if signal(c).abs() > signal(d).abs() {
+                b = d;
+            } else {
+                a = c;
+            }
+        }
+        let exact = signal(0.5 * (a + b)).abs();
+        let raw = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!((max_abs(&x) - exact).abs() < 1e-9 * exact, "{} vs {exact}", max_abs(&x));
+        assert!(exact - raw > 1e-7, "the refinement should matter here: raw {raw}");
+    }
+
+    #[test]
+    fn drift_compares_the_two_blocks() {
+        // A hump of height 1, then one of height 2 (peaks on samples 5 and 15).
+        let x: Vec<f64> = (0..=20)
+            .map(|k| {
+                let a = if k <= 10 { 1.0 } else { 2.0 };
+                a * (std::f64::consts::PI * (k % 10) as f64 / 10.0).sin()
+            })
+            .collect();
+        let s = summarize("x", &x, 10);
+        assert!((s.max_abs - 2.0).abs() < 1e-15);
+        assert!((s.drift - 0.5).abs() < 1e-15);
+        assert_eq!(summarize("x", &[], 10).drift, 0.0);
+    }
 }
