@@ -46,6 +46,8 @@ pub use num_dual;
 /// code block in `book/` stays true.
 #[cfg(doctest)]
 pub mod book {
+    #[doc = include_str!("../README.md")]
+    pub struct Readme;
     #[doc = include_str!("../book/src/introduction.md")]
     pub struct Introduction;
     #[doc = include_str!("../book/src/method.md")]
