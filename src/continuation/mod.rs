@@ -17,7 +17,7 @@
 //!   tangent turns little, shrinks otherwise; halved on failure down to
 //!   [`SweepOptions::min_step`], where the segment ends "stalled: <reason>".
 //! - *Folds*: the λ-component of the tangent changes sign; the fold is then located
-//!   by regula falsi (Illinois) on that component along the arc, to `|t_λ| < 1e-12`,
+//!   by regula falsi (Illinois) on that component along the arc, to `|t_λ| < 1e-13`,
 //!   i.e. far below 1e-8 relative in λ (λ is quadratic in the arc near a fold).
 //! - *Runaway branches*: a point beyond the amplitude bound ends the segment
 //!   ("amplitude bound"); the sweep then restarts from the other end of the range,
@@ -602,6 +602,59 @@ impl<'m, M: Model> Run<'_, 'm, M> {
     }
 }
 
+/// A sign-change bracket `[a, b]` of a function along the step, narrowed by regula
+/// falsi with the Illinois modification (halve the stale end's value when the same
+/// end moves twice), which keeps superlinear convergence without stalling.
+struct Illinois {
+    a: f64,
+    fa: f64,
+    b: f64,
+    fb: f64,
+    side: i8,
+}
+
+impl Illinois {
+    /// The bracket `[0, h]` with function values `fa` at 0 and `fb` at `h`.
+    fn new(h: f64, fa: f64, fb: f64) -> Self {
+        Illinois { a: 0.0, fa, b: h, fb, side: 0 }
+    }
+
+    /// The next trial point (the secant root, or the midpoint if that leaves the bracket).
+    fn next(&self) -> f64 {
+        let (a, fa, b, fb) = (self.a, self.fa, self.b, self.fb);
+        let s = if fb != fa { (a * fb - b * fa) / (fb - fa) } else { 0.5 * (a + b) };
+        if s > a && s < b {
+            s
+        } else {
+            0.5 * (a + b)
+        }
+    }
+
+    /// Replace the end with the same sign as `f` by `s`.
+    fn update(&mut self, s: f64, f: f64) {
+        if f * self.fa > 0.0 {
+            self.a = s;
+            self.fa = f;
+            if self.side == -1 {
+                self.fb *= 0.5;
+            }
+            self.side = -1;
+        } else {
+            self.b = s;
+            self.fb = f;
+            if self.side == 1 {
+                self.fa *= 0.5;
+            }
+            self.side = 1;
+        }
+    }
+
+    /// Width of the bracket.
+    fn width(&self) -> f64 {
+        self.b - self.a
+    }
+}
+
 impl<'m, M: Model> Run<'_, 'm, M> {
     /// Locate the fold inside the step from `nodes[last]` (direction `dirv`, length
     /// `h`) by regula falsi (Illinois) on the λ-component of the tangent.
@@ -609,16 +662,12 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         let n = self.tr.n;
         let y_i = self.nodes[last].y.clone();
         let base = dot(dirv, &y_i);
-        let (mut a, mut fa, mut b, mut fb) = (0.0, self.nodes[last].t[n], h, f_end);
+        let mut bracket = Illinois::new(h, self.nodes[last].t[n], f_end);
         let mut y = vec![0.0; n + 1];
         let mut t = vec![0.0; n + 1];
         let mut best: Option<Vec<f64>> = None;
-        let mut side = 0i8;
         for _ in 0..100 {
-            let mut s = if fb != fa { (a * fb - b * fa) / (fb - fa) } else { 0.5 * (a + b) };
-            if !(s > a && s < b) {
-                s = 0.5 * (a + b);
-            }
+            let s = bracket.next();
             for i in 0..=n {
                 y[i] = y_i[i] + s * dirv[i];
             }
@@ -628,24 +677,10 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             self.tr.tangent(&mut t);
             let f = t[n];
             best = Some(y.clone());
-            if f.abs() < 1e-13 || (b - a) < 1e-14 * h {
+            if f.abs() < 1e-13 || bracket.width() < 1e-14 * h {
                 break;
             }
-            if f * fa > 0.0 {
-                a = s;
-                fa = f;
-                if side == -1 {
-                    fb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = s;
-                fb = f;
-                if side == 1 {
-                    fa *= 0.5;
-                }
-                side = 1;
-            }
+            bracket.update(s, f);
         }
         let y = best.unwrap_or(y_i);
         self.folds.push(RawFold { y, after: last });
@@ -666,16 +701,12 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         let dirv = self.nodes[i + 1].border.clone();
         let h = self.nodes[i + 1].h;
         let base = dot(&dirv, &y_i);
-        let (mut a, mut fa, mut b, mut fb) = (0.0, g0, h, g1);
+        let mut bracket = Illinois::new(h, g0, g1);
         let mut y = vec![0.0; n + 1];
         let mut best = self.nodes[if g0.abs() < g1.abs() { i } else { i + 1 }].y.clone();
         let mut coeffs = vec![0.0; n];
-        let mut side = 0i8;
         for _ in 0..40 {
-            let mut s = if fb != fa { (a * fb - b * fa) / (fb - fa) } else { 0.5 * (a + b) };
-            if !(s > a && s < b) {
-                s = 0.5 * (a + b);
-            }
+            let s = bracket.next();
             for k in 0..=n {
                 y[k] = y_i[k] + s * dirv[k];
             }
@@ -690,24 +721,10 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             };
             let f = fl.max_real - so.tol * omega;
             best.copy_from_slice(&y);
-            if f == 0.0 || (b - a) < 1e-10 * h {
+            if f == 0.0 || bracket.width() < 1e-10 * h {
                 break;
             }
-            if f * fa > 0.0 {
-                a = s;
-                fa = f;
-                if side == -1 {
-                    fb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = s;
-                fb = f;
-                if side == 1 {
-                    fa *= 0.5;
-                }
-                side = 1;
-            }
+            bracket.update(s, f);
         }
         best
     }
