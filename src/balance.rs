@@ -64,6 +64,8 @@ pub struct Balance<'m, M: Model> {
     d_params: Vec<Dual64>,
     d_sig: Vec<Dual64>,
     d_out: Vec<Dual64>,
+    /// which signals a directional pass seeds (reused, so passes do not allocate)
+    seeded: Vec<bool>,
     ghat: Vec<Complex64>,
     /// spectral factors `(ikΩ)^q`, `s * (N + 1) + k`
     lam: Vec<Complex64>,
@@ -141,6 +143,7 @@ impl<'m, M: Model> Balance<'m, M> {
             d_params: vec![Dual64::from_re(0.0); model.params_info().len()],
             d_sig: vec![Dual64::from_re(0.0); nsig],
             d_out: vec![Dual64::from_re(0.0); ndof],
+            seeded: vec![false; nsig],
             ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
             lam: vec![Complex64::new(0.0, 0.0); nsig * (harmonics + 1)],
         };
@@ -311,23 +314,17 @@ impl<'m, M: Model> Balance<'m, M> {
         }
     }
 
-    /// One directional-derivative pass: signals seeded with `dsig` (or zero), Ω seeded
-    /// with `d_omega`, parameter `param` (if any) seeded with 1; projected into `out`.
-    fn directional(
-        &mut self,
-        omega: f64,
-        d_omega: f64,
-        param: Option<usize>,
-        seeded: &[bool],
-        out: &mut [f64],
-    ) {
+    /// One directional-derivative pass: signals marked in `self.seeded` carry `dsig`
+    /// (the others zero), Ω is seeded with `d_omega`, parameter `param` (if any) with
+    /// 1; projected into `out`.
+    fn directional(&mut self, omega: f64, d_omega: f64, param: Option<usize>, out: &mut [f64]) {
         for (i, (d, &p)) in self.d_params.iter_mut().zip(&self.params).enumerate() {
             *d = Dual64::new(p, if Some(i) == param { 1.0 } else { 0.0 });
         }
         let m = self.m;
         for j in 0..m {
             for s in 0..self.nsig {
-                let eps = if seeded[s] { self.dsig[s * m + j] } else { 0.0 };
+                let eps = if self.seeded[s] { self.dsig[s * m + j] } else { 0.0 };
                 self.d_sig[s] = Dual64::new(self.sig[s * m + j], eps);
             }
             self.model.residual(
@@ -355,8 +352,8 @@ impl<'m, M: Model> Balance<'m, M> {
                 self.dsig[s * m + j] = f * self.sig[s * m + j];
             }
         }
-        let seeded = vec![true; self.nsig];
-        self.directional(omega, 1.0, None, &seeded, out);
+        self.seeded.fill(true);
+        self.directional(omega, 1.0, None, out);
     }
 
     /// `∂R/∂θ_i` for parameter `index` at fixed coefficients and Ω: the direct
@@ -366,12 +363,12 @@ impl<'m, M: Model> Balance<'m, M> {
         self.fill_signals(a, omega);
         let l = coeff_len(self.n);
         let m = self.m;
-        let mut seeded = vec![false; self.nsig];
+        self.seeded.fill(false);
         for (s, sig) in self.model.signals().iter().enumerate() {
             if sig.order != Order::Param(index) {
                 continue;
             }
-            seeded[s] = true;
+            self.seeded[s] = true;
             self.comb.fill(0.0);
             for &(d, c) in sig.terms {
                 for (x, y) in self.comb.iter_mut().zip(&a[d * l..(d + 1) * l]) {
@@ -389,7 +386,7 @@ impl<'m, M: Model> Balance<'m, M> {
             });
             self.fourier.synthesize(&self.op, &mut self.dsig[s * m..(s + 1) * m]);
         }
-        self.directional(omega, 0.0, Some(index), &seeded, out);
+        self.directional(omega, 0.0, Some(index), out);
     }
 }
 
@@ -487,7 +484,17 @@ fn add_block(
 pub fn linearized_guess<M: Model>(model: &M, omega: f64, harmonics: usize) -> Result<Vec<f64>> {
     check_inputs(harmonics, omega)?;
     let mut hb = Balance::new(model, harmonics)?;
-    let (n, ndof, nsig, m) = (harmonics, hb.ndof, hb.nsig, hb.m);
+    Ok(linearized_on(&mut hb, omega)?.0)
+}
+
+/// [`linearized_guess`] on an existing [`Balance`]; also returns `R(0)`, the residual
+/// at rest (minus the forcing), which the corrector uses as its residual scale.
+pub(crate) fn linearized_on<M: Model>(
+    hb: &mut Balance<'_, M>,
+    omega: f64,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    let model = hb.model;
+    let (n, ndof, nsig, m) = (hb.n, hb.ndof, hb.nsig, hb.m);
     let l = coeff_len(n);
     let zero = vec![0.0; hb.len()];
     let mut r0 = vec![0.0; hb.len()];
@@ -529,7 +536,7 @@ pub fn linearized_guess<M: Model>(model: &M, omega: f64, harmonics: usize) -> Re
             }
         }
     }
-    Ok(a)
+    Ok((a, r0))
 }
 
 /// Gaussian elimination with partial pivoting on a small dense complex system

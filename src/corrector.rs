@@ -5,7 +5,7 @@
 //! does not throw the iteration away. Failure is an error value that keeps the last
 //! iterate and the iteration history.
 
-use crate::balance::{check_inputs, linearized_guess, Balance};
+use crate::balance::{check_inputs, linearized_on, Balance};
 use crate::error::{Error, IterationRecord, Result};
 use crate::fourier::{coeff_len, max_abs};
 use crate::linalg::DenseLu;
@@ -134,7 +134,7 @@ pub fn newton<M: Model>(
 }
 
 /// Solve for the periodic steady state at `omega`, starting from `guess` or from the
-/// linearized solution ([`linearized_guess`]).
+/// linearized solution ([`linearized_guess`](crate::balance::linearized_guess)).
 ///
 /// ```
 /// use ihbm::corrector::{solve, SolveOptions};
@@ -160,7 +160,9 @@ pub fn solve<M: Model>(
     }
     let mut hb = Balance::new(model, opts.harmonics)?;
     let len = hb.len();
-    let mut a = match guess {
+    // the linearized guess computes R(0) on the way; with a user guess it costs one
+    // residual evaluation
+    let (mut a, r0) = match guess {
         Some(g) if g.len() != len => {
             return Err(Error::InvalidValue {
                 what: "initial guess length".into(),
@@ -168,11 +170,13 @@ pub fn solve<M: Model>(
                 expected: format!("{len} = dofs x (2N + 1)"),
             })
         }
-        Some(g) => g.to_vec(),
-        None => linearized_guess(model, omega, opts.harmonics)?,
+        Some(g) => {
+            let mut r0 = vec![0.0; len];
+            hb.residual(&vec![0.0; len], omega, &mut r0);
+            (g.to_vec(), r0)
+        }
+        None => linearized_on(&mut hb, omega)?,
     };
-    let mut r0 = vec![0.0; len];
-    hb.residual(&vec![0.0; len], omega, &mut r0);
     let scale = norm(&r0);
     let mut lu = DenseLu::new(len);
     let (iterations, residual_norm, history) =
