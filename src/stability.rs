@@ -85,7 +85,6 @@ use crate::balance::Balance;
 use crate::error::{Error, Result};
 use crate::model::{Model, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::prelude::Solve;
 use faer::{Mat, Par};
 use num_complex::Complex64;
 
@@ -183,8 +182,10 @@ pub struct Hill {
     proj: Vec<f64>,
     r: Vec<f64>,
     jac: Mat<f64>,
-    /// `M_0 .. M_degree`.
-    coef: Vec<Mat<f64>>,
+    /// Constant gradient of each projection (`P = g0·I`), if it is one.
+    diag: Vec<Option<f64>>,
+    /// `M_0 .. M_degree`, row-major `m × m`.
+    coef: Vec<Vec<f64>>,
     companion: Mat<f64>,
     lead: Mat<f64>,
     s_re: Vec<f64>,
@@ -195,6 +196,40 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
+    /// Raw values of the last full analysis, one per conjugate pair (refined ones for
+    /// fractional models), and whether every refinement converged.
+    raw: Vec<Complex64>,
+    raw_refined: bool,
+    /// Complex kernels of the nonlinear iteration: `T`, `T'`, pivots, vectors.
+    t: Vec<Complex64>,
+    dt: Vec<Complex64>,
+    piv: Vec<usize>,
+    x: Vec<Complex64>,
+    alpha: Vec<[Complex64; 4]>,
+    /// Tracking state (see [`Hill::track`]).
+    state: Option<TrackState>,
+    counts: TrackCounts,
+}
+
+/// Tracked exponents of the last point.
+struct TrackState {
+    omega: f64,
+    /// Raw exponents (one per conjugate pair) with unit eigenvectors.
+    lambdas: Vec<Complex64>,
+    vectors: Vec<Vec<Complex64>>,
+    /// Separation of each from the others (see [`separations`]).
+    sep: Vec<f64>,
+    /// The exponents one point earlier (for the linear predictor), and its Ω.
+    prev: Option<(f64, Vec<Complex64>)>,
+}
+
+/// How many points [`Hill::track`] analysed in full and how many it tracked.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TrackCounts {
+    /// Points with the full eigensolve (first points, fallbacks).
+    pub full: usize,
+    /// Points whose exponents were tracked from the previous point.
+    pub tracked: usize,
 }
 
 impl Hill {
@@ -271,7 +306,8 @@ impl Hill {
             proj: vec![0.0; neq * nsig * len * len],
             r: vec![0.0; m],
             jac: Mat::zeros(m, m),
-            coef: (0..=degree).map(|_| Mat::zeros(m, m)).collect(),
+            diag: vec![None; neq * nsig],
+            coef: (0..=degree).map(|_| vec![0.0; m * m]).collect(),
             companion: Mat::zeros(big, big),
             lead: Mat::zeros(m, m),
             s_re: vec![0.0; big],
@@ -282,6 +318,15 @@ impl Hill {
             signals,
             fractional,
             cands: Vec::with_capacity(big),
+            raw: Vec::with_capacity(big),
+            raw_refined: true,
+            t: vec![Complex64::new(0.0, 0.0); m * m],
+            dt: vec![Complex64::new(0.0, 0.0); m * m],
+            piv: vec![0; m],
+            x: vec![Complex64::new(0.0, 0.0); m],
+            alpha: vec![[Complex64::new(0.0, 0.0); 4]; harmonics + 1],
+            state: None,
+            counts: TrackCounts::default(),
         })
     }
 
@@ -291,7 +336,8 @@ impl Hill {
     }
 
     /// Floquet exponents and stability of the solution `coeffs` at frequency `omega`
-    /// (parameters as currently set in `bal`).
+    /// (parameters as currently set in `bal`): the full analysis, a companion
+    /// eigensolve at every call. Along a curve, [`Hill::track`] is much cheaper.
     pub fn analyse<M: Model>(
         &mut self,
         bal: &mut Balance<'_, M>,
@@ -300,41 +346,189 @@ impl Hill {
         opts: &StabilityOptions,
     ) -> Result<Floquet> {
         self.project(bal, coeffs, omega)?;
-        self.assemble_polynomial(bal.params(), omega);
+        self.full(bal.params(), omega, opts)
+    }
+
+    /// The full analysis on the current projections.
+    fn full(&mut self, params: &[f64], omega: f64, opts: &StabilityOptions) -> Result<Floquet> {
+        self.assemble_polynomial(params, omega, true);
         self.candidates(omega)?;
+        let tie = 1e-12 * omega;
         let mut refined = true;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.cands.len());
+        self.raw.clear();
         if self.fractional && opts.refine {
-            let params = bal.params().to_vec();
+            // The exact (not frozen) polynomial part for the refinement.
+            self.assemble_polynomial(params, omega, false);
             let cands = std::mem::take(&mut self.cands);
             for &c in &cands {
-                if c.im < -1e-12 * omega {
+                if c.im < -tie {
                     continue; // its conjugate is refined
                 }
-                match self.refine(&params, omega, c, opts.max_refine_iter) {
+                let l = match self.refine(params, omega, c, opts.max_refine_iter) {
                     Some(l) => {
-                        let l = fold_into_strip(l, omega);
-                        exps.push(l);
-                        if l.im.abs() > 1e-12 * omega {
-                            exps.push(l.conj());
-                        }
+                        self.raw.push(l);
+                        fold_into_strip(l, omega)
                     }
                     None => {
                         refined = false;
-                        exps.push(c);
-                        if c.im.abs() > 1e-12 * omega {
-                            exps.push(c.conj());
-                        }
+                        c
                     }
+                };
+                exps.push(l);
+                if l.im.abs() > tie {
+                    exps.push(l.conj());
                 }
             }
             self.cands = cands;
         } else {
             exps.extend_from_slice(&self.cands);
+            self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
         }
-        exps.sort_by(|a, b| b.re.total_cmp(&a.re));
-        let max_real = exps.first().map_or(f64::NEG_INFINITY, |l| l.re);
-        Ok(Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined })
+        self.raw_refined = refined;
+        Ok(floquet(exps, omega, opts, refined))
+    }
+
+    /// Like [`Hill::analyse`], but along a curve: the central exponents of the previous
+    /// point are continued to this one by Newton's method on `T(λ) v = 0` (from the
+    /// previous exponent and eigenvector), and the full analysis runs only when that
+    /// cannot be trusted (see the module docs: *Tracking*). Call [`Hill::reset`] when
+    /// the next point does not continue the previous one (new segment, a fold in
+    /// between). The verdict is the full analysis's.
+    pub fn track<M: Model>(
+        &mut self,
+        bal: &mut Balance<'_, M>,
+        coeffs: &[f64],
+        omega: f64,
+        opts: &StabilityOptions,
+    ) -> Result<Floquet> {
+        self.project(bal, coeffs, omega)?;
+        let params = bal.params();
+        if self.fractional && !opts.refine {
+            // Frozen-order exponents are not roots of T(λ): nothing to track.
+            self.state = None;
+            self.counts.full += 1;
+            return self.full(params, omega, opts);
+        }
+        if let Some(st) = self.state.take() {
+            if let Some(f) = self.continue_state(params, omega, opts, st) {
+                self.counts.tracked += 1;
+                return Ok(f);
+            }
+        }
+        self.counts.full += 1;
+        let f = self.full(params, omega, opts);
+        match &f {
+            Ok(fl) if fl.refined && self.raw_refined => self.start_state(params, omega),
+            _ => self.state = None,
+        }
+        f
+    }
+
+    /// Forget the tracked exponents: the next [`Hill::track`] analyses in full.
+    pub fn reset(&mut self) {
+        self.state = None;
+    }
+
+    /// Full analyses and tracked points of [`Hill::track`] so far.
+    pub fn counts(&self) -> TrackCounts {
+        self.counts
+    }
+
+    /// Tracking state from the last full analysis (`self.raw`), if its selection is
+    /// clean: every raw exponent inside the central strip and well separated from the
+    /// others, their conjugates and copies. Otherwise no state (the next point is
+    /// analysed in full too).
+    fn start_state(&mut self, params: &[f64], omega: f64) {
+        self.state = None;
+        let half = 0.5 * omega;
+        let n_out: usize = self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
+        if self.raw.is_empty()
+            || n_out != self.central_count()
+            || self.raw.iter().any(|l| l.im.abs() >= half)
+        {
+            return;
+        }
+        let sep = separations(&self.raw, omega);
+        if sep.iter().any(|&s| s < MIN_SEPARATION * omega) {
+            return;
+        }
+        self.assemble_polynomial(params, omega, false);
+        let mut lambdas = Vec::with_capacity(self.raw.len());
+        let mut vectors = Vec::with_capacity(self.raw.len());
+        let raw = std::mem::take(&mut self.raw);
+        for &l0 in &raw {
+            let Some(v) = self.start_vector(params, omega, l0) else { break };
+            match self.newton(params, omega, l0, v, 30, sep[lambdas.len()]) {
+                Some((l, v, _)) if (l - l0).norm() <= 1e-8 * omega.max(l0.norm()) => {
+                    lambdas.push(l);
+                    vectors.push(v);
+                }
+                _ => break,
+            }
+        }
+        let ok = lambdas.len() == raw.len();
+        self.raw = raw;
+        if ok {
+            self.state = Some(TrackState { omega, lambdas, vectors, sep, prev: None });
+        }
+    }
+
+    /// Continue `st` to the current point; `None` if a fallback rule fires.
+    fn continue_state(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        opts: &StabilityOptions,
+        st: TrackState,
+    ) -> Option<Floquet> {
+        self.assemble_polynomial(params, omega, false);
+        // Linear predictor in Ω (ratio of the steps, clamped; 1 on the parameter axis).
+        let ratio = match &st.prev {
+            Some((w0, _)) if (st.omega - w0).abs() > 0.0 && omega != st.omega => {
+                ((omega - st.omega) / (st.omega - w0)).clamp(0.0, 2.0)
+            }
+            Some(_) => 1.0,
+            None => 0.0,
+        };
+        let mut lambdas = Vec::with_capacity(st.lambdas.len());
+        let mut vectors = Vec::with_capacity(st.lambdas.len());
+        for (i, (&l, v)) in st.lambdas.iter().zip(&st.vectors).enumerate() {
+            let pred = match &st.prev {
+                Some((_, p)) => l + (l - p[i]) * ratio,
+                None => l,
+            };
+            let (ln, vn, _) = self.newton(params, omega, pred, v.clone(), TRACK_ITER, st.sep[i])?;
+            // Stay on the real axis / in the upper half plane as before.
+            if (l.im == 0.0) != (ln.im == 0.0) || ln.im < 0.0 && l.im > 0.0 {
+                return None;
+            }
+            if (ln - l).norm() > 0.25 * st.sep[i] {
+                return None;
+            }
+            lambdas.push(ln);
+            vectors.push(vn);
+        }
+        let sep = separations(&lambdas, omega);
+        for (i, &s) in sep.iter().enumerate() {
+            let moved = (lambdas[i] - st.lambdas[i]).norm();
+            if s < MIN_SEPARATION * omega || moved > 0.25 * s || lambdas[i].im.abs() >= 0.5 * omega
+            {
+                return None;
+            }
+        }
+        let tie = 1e-12 * omega;
+        let mut exps = Vec::with_capacity(2 * lambdas.len());
+        for &l in &lambdas {
+            let l = if self.fractional { fold_into_strip(l, omega) } else { l };
+            exps.push(l);
+            if l.im.abs() > tie {
+                exps.push(l.conj());
+            }
+        }
+        let prev = Some((st.omega, st.lambdas));
+        self.state = Some(TrackState { omega, lambdas, vectors, sep, prev });
+        Some(floquet(exps, omega, opts, true))
     }
 
     /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution.
@@ -359,16 +553,16 @@ impl Hill {
         let grads = bal.gradients();
         for e in 0..self.ndof {
             for j in 0..nsig {
-                let p = &mut self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
-                p.fill(0.0);
-                let g = &grads[(e * nsig + j) * ns..][..ns];
+                let idx = e * nsig + j;
+                let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
+                let g = &grads[idx * ns..][..ns];
                 if g.iter().all(|&x| x == g[0]) {
                     // A linear term: multiplication by a constant projects to g0·I.
-                    for l in 0..len {
-                        p[l * len + l] = g[0];
-                    }
+                    self.diag[idx] = Some(g[0]);
                     continue;
                 }
+                self.diag[idx] = None;
+                p.fill(0.0);
                 for s in 0..ns {
                     let g = g[s];
                     if g == 0.0 {
@@ -388,49 +582,53 @@ impl Hill {
         Ok(())
     }
 
-    /// `M_r` of `T(λ) = Σ_r λ^r M_r`, fractional signals frozen at `λ = 0`.
-    fn assemble_polynomial(&mut self, params: &[f64], omega: f64) {
-        let (len, nh, nsig) = (self.len, self.harmonics, self.signals.len());
+    /// `M_r` of `T(λ) = Σ_r λ^r M_r` from the integer-order signals, plus (if `frozen`)
+    /// the fractional ones frozen at `λ = 0`.
+    fn assemble_polynomial(&mut self, params: &[f64], omega: f64, frozen: bool) {
+        let (len, nh, nsig, m) = (self.len, self.harmonics, self.signals.len(), self.m);
         for c in &mut self.coef {
             c.fill(0.0);
         }
-        let mut alpha = vec![0.0; nh + 1];
-        let mut beta = vec![0.0; nh + 1];
         for j in 0..nsig {
-            let (terms, order) = (&self.signals[j].0, self.signals[j].1);
-            let q = order.value(params);
-            let powers: Vec<(usize, f64)> = match order {
-                Order::Int(q) => (0..=q as usize).map(|r| (r, q as f64)).collect(),
-                Order::Param(_) => vec![(0, q)],
+            let order = self.signals[j].1;
+            let (rmax, qi) = match order {
+                Order::Int(q) => (q as usize, q as usize),
+                Order::Param(_) if frozen => (0, 0),
+                Order::Param(_) => continue,
             };
-            for (r, qq) in powers {
+            let q = order.value(params);
+            for r in 0..=rmax {
                 // Coefficient of λ^r in (λ ± ikΩ)^q: binom(q, r) (±ikΩ)^(q - r); for a
                 // frozen fractional order, r = 0 and the factor (±ikΩ)^p.
                 let (binom, s) = match order {
-                    Order::Int(qi) => (binomial(qi as usize, r), qi as f64 - r as f64),
-                    Order::Param(_) => (1.0, qq),
+                    Order::Int(_) => (binomial(qi, r), qi as f64 - r as f64),
+                    Order::Param(_) => (1.0, q),
                 };
-                alpha[0] = if s == 0.0 { binom } else { 0.0 };
-                beta[0] = 0.0;
-                for k in 1..=nh {
-                    let z = crate::fourier::spectral_factor(k, omega, s);
-                    alpha[k] = binom * z.re;
-                    beta[k] = -binom * z.im;
+                for k in 0..=nh {
+                    let (a, b) = if k == 0 {
+                        (if s == 0.0 { binom } else { 0.0 }, 0.0)
+                    } else {
+                        let z = crate::fourier::spectral_factor(k, omega, s);
+                        (binom * z.re, -binom * z.im)
+                    };
+                    self.alpha[k][0] = Complex64::new(a, 0.0);
+                    self.alpha[k][1] = Complex64::new(b, 0.0);
                 }
+                let ab = &self.alpha;
                 for e in 0..self.ndof {
-                    let p = &self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
-                    for &(d, c) in terms {
-                        add_product(
-                            &mut self.coef[r],
-                            e * len,
-                            d * len,
-                            c,
-                            p,
-                            len,
-                            nh,
-                            &alpha,
-                            &beta,
-                        );
+                    let idx = e * nsig + j;
+                    let p = &self.proj[idx * len * len..(idx + 1) * len * len];
+                    for &(d, c) in &self.signals[j].0 {
+                        let dst = &mut self.coef[r];
+                        let (r0, c0) = (e * len, d * len);
+                        match self.diag[idx] {
+                            Some(g) => add_diag(dst, m, r0, c0, c * g, nh, |k| {
+                                (ab[k][0].re, ab[k][1].re)
+                            }),
+                            None => add_product(dst, m, r0, c0, c, p, len, nh, |k| {
+                                (ab[k][0].re, ab[k][1].re)
+                            }),
+                        }
                     }
                 }
             }
@@ -443,7 +641,8 @@ impl Hill {
         let (m, d) = (self.m, self.degree);
         let big = d * m;
         let count = self.central_count();
-        self.lead.copy_from(&self.coef[d]);
+        let lead = &self.coef[d];
+        self.lead = Mat::from_fn(m, m, |i, j| lead[i * m + j]);
         let scale = self.lead.norm_max();
         let (_, perm) = factor::lu_in_place(
             self.lead.as_mut(),
@@ -468,7 +667,7 @@ impl Hill {
         for r in 0..d {
             for i in 0..m {
                 for jj in 0..m {
-                    self.companion[((d - 1) * m + i, r * m + jj)] = -self.coef[r][(i, jj)];
+                    self.companion[((d - 1) * m + i, r * m + jj)] = -self.coef[r][i * m + jj];
                 }
             }
         }
@@ -518,13 +717,13 @@ impl Hill {
         for r in 0..d {
             for i in 0..m {
                 for jj in 0..m {
-                    a[((d - 1) * m + i, r * m + jj)] = -self.coef[r][(i, jj)];
+                    a[((d - 1) * m + i, r * m + jj)] = -self.coef[r][i * m + jj];
                 }
             }
         }
         for i in 0..m {
             for jj in 0..m {
-                b[((d - 1) * m + i, (d - 1) * m + jj)] = self.coef[d][(i, jj)];
+                b[((d - 1) * m + i, (d - 1) * m + jj)] = self.coef[d][i * m + jj];
             }
         }
         let ge = a.generalized_eigen(&b).map_err(|e| {
@@ -544,119 +743,263 @@ impl Hill {
         Ok(())
     }
 
-    /// `T(λ)` and `T'(λ)` with every order exact (principal branch).
-    fn assemble_full(
-        &self,
-        params: &[f64],
-        omega: f64,
-        lambda: Complex64,
-        t: &mut Mat<Complex64>,
-        dt: &mut Mat<Complex64>,
-    ) {
-        let (len, nh, nsig) = (self.len, self.harmonics, self.signals.len());
-        t.fill(Complex64::new(0.0, 0.0));
-        dt.fill(Complex64::new(0.0, 0.0));
-        let mut alpha = vec![Complex64::new(0.0, 0.0); nh + 1];
-        let mut beta = alpha.clone();
-        let mut dalpha = alpha.clone();
-        let mut dbeta = alpha.clone();
+    /// `T(λ)` and `T'(λ)` (row-major, into `self.t`, `self.dt`) with every order exact
+    /// (principal branch): the integer part from the polynomial `self.coef` (assembled
+    /// with `frozen = false`), the fractional signals added here.
+    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64) {
+        let (len, nh, nsig, m, d) =
+            (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
+        let zero = Complex64::new(0.0, 0.0);
+        let mut pw = [zero; 8];
+        let mut dpw = [zero; 8];
+        let mut p = Complex64::new(1.0, 0.0);
+        for r in 0..=d.min(7) {
+            pw[r] = p;
+            dpw[r] = if r == 0 { zero } else { pw[r - 1] * r as f64 };
+            p *= lambda;
+        }
+        for (i, (t, dt)) in self.t.iter_mut().zip(self.dt.iter_mut()).enumerate() {
+            let mut a = zero;
+            let mut b = zero;
+            for r in 0..=d {
+                let c = self.coef[r][i];
+                if c != 0.0 {
+                    a += pw[r] * c;
+                    b += dpw[r] * c;
+                }
+            }
+            *t = a;
+            *dt = b;
+        }
+        if !self.fractional {
+            return;
+        }
         let i1 = Complex64::new(0.0, 1.0);
         for j in 0..nsig {
-            let (terms, order) = (&self.signals[j].0, self.signals[j].1);
-            let q = order.value(params);
+            let Order::Param(_) = self.signals[j].1 else { continue };
+            let q = self.signals[j].1.value(params);
             let f = |z: Complex64| -> (Complex64, Complex64) {
                 if q == 0.0 {
-                    (Complex64::new(1.0, 0.0), Complex64::new(0.0, 0.0))
-                } else if z == Complex64::new(0.0, 0.0) {
-                    let d = if q == 1.0 { 1.0 } else { 0.0 };
-                    (Complex64::new(0.0, 0.0), Complex64::new(d, 0.0))
-                } else if let Order::Int(qi) = order {
-                    (z.powi(qi as i32), q * z.powi(qi as i32 - 1))
+                    (Complex64::new(1.0, 0.0), zero)
+                } else if z == zero {
+                    (zero, Complex64::new(if q == 1.0 { 1.0 } else { 0.0 }, 0.0))
                 } else {
                     let v = z.powf(q);
                     (v, q * v / z)
                 }
             };
+            // k = 0: f(λ) itself (α = f₊ = f₋).
             for k in 0..=nh {
                 let w = Complex64::new(0.0, k as f64 * omega);
                 let (fp, dfp) = f(lambda + w);
                 let (fm, dfm) = f(lambda - w);
-                alpha[k] = (fp + fm) * 0.5;
-                beta[k] = i1 * (fp - fm) * 0.5;
-                dalpha[k] = (dfp + dfm) * 0.5;
-                dbeta[k] = i1 * (dfp - dfm) * 0.5;
+                self.alpha[k] =
+                    [(fp + fm) * 0.5, i1 * (fp - fm) * 0.5, (dfp + dfm) * 0.5, i1 * (dfp - dfm) * 0.5];
             }
-            // k = 0: f(λ) itself (α = f₊ = f₋).
+            let ab = &self.alpha;
             for e in 0..self.ndof {
-                let p = &self.proj[(e * nsig + j) * len * len..(e * nsig + j + 1) * len * len];
-                for &(d, c) in terms {
-                    add_product(t, e * len, d * len, c, p, len, nh, &alpha, &beta);
-                    add_product(dt, e * len, d * len, c, p, len, nh, &dalpha, &dbeta);
+                let idx = e * nsig + j;
+                let p = &self.proj[idx * len * len..(idx + 1) * len * len];
+                for &(dof, c) in &self.signals[j].0 {
+                    let (r0, c0) = (e * len, dof * len);
+                    match self.diag[idx] {
+                        Some(g) => {
+                            add_diag(&mut self.t, m, r0, c0, c * g, nh, |k| (ab[k][0], ab[k][1]));
+                            add_diag(&mut self.dt, m, r0, c0, c * g, nh, |k| (ab[k][2], ab[k][3]));
+                        }
+                        None => {
+                            add_product(&mut self.t, m, r0, c0, c, p, len, nh, |k| {
+                                (ab[k][0], ab[k][1])
+                            });
+                            add_product(&mut self.dt, m, r0, c0, c, p, len, nh, |k| {
+                                (ab[k][2], ab[k][3])
+                            });
+                        }
+                    }
                 }
             }
         }
     }
 
+    /// One step of inverse iteration at `l0` from a fixed start vector: the start of
+    /// the nonlinear iteration when no eigenvector is known.
+    fn start_vector(&mut self, params: &[f64], omega: f64, l0: Complex64) -> Option<Vec<Complex64>> {
+        self.eval_t(params, omega, l0);
+        let mut v: Vec<Complex64> =
+            (0..self.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
+        if !lu_solve(&mut self.t, self.m, &mut self.piv, &mut v) {
+            return None;
+        }
+        normalise(&mut v)?;
+        Some(v)
+    }
+
     /// Nonlinear inverse iteration from the candidate `l0`; `None` if it fails.
     fn refine(
-        &self,
+        &mut self,
         params: &[f64],
         omega: f64,
         l0: Complex64,
         max_iter: usize,
     ) -> Option<Complex64> {
+        let v = self.start_vector(params, omega, l0)?;
+        self.newton(params, omega, l0, v, max_iter, 0.0).map(|(l, _, _)| l)
+    }
+
+    /// Nonlinear inverse iteration (Ruhe 1973) on `T(λ) v = 0` from `(l0, v)`, `v` of
+    /// unit norm: `T(λ) x = T'(λ) v`, `λ ← λ - (uᴴv)/(uᴴx)`, `v ← x/(uᴴx)` with
+    /// `u` the start vector. Converged when the step is below `1e-12·scale`, or, when
+    /// `sep > 0` (the distance to the nearest other exponent, which bounds the
+    /// quadratic convergence constant), when the step contracted and its square is
+    /// below `1e-13·scale·sep`. The root, its unit eigenvector and the iterations.
+    fn newton(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        l0: Complex64,
+        mut v: Vec<Complex64>,
+        max_iter: usize,
+        sep: f64,
+    ) -> Option<(Complex64, Vec<Complex64>, usize)> {
         let m = self.m;
-        let zero = Complex64::new(0.0, 0.0);
-        let mut t = Mat::<Complex64>::zeros(m, m);
-        let mut dt = Mat::<Complex64>::zeros(m, m);
-        let mut lambda = l0;
-        // Start vector: one step of inverse iteration at the candidate.
-        self.assemble_full(params, omega, lambda, &mut t, &mut dt);
-        let lu = t.partial_piv_lu();
-        let b = Mat::<Complex64>::from_fn(m, 1, |i, _| {
-            Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)
-        });
-        let mut v = lu.solve(&b);
         let u = v.clone();
-        let norm = dot(&u, &v);
-        if norm.norm() == 0.0 || !norm.re.is_finite() || !norm.im.is_finite() {
-            return None;
-        }
-        for i in 0..m {
-            v[(i, 0)] /= norm;
-        }
+        let mut lambda = l0;
         let scale = omega.max(l0.norm());
-        for _ in 0..max_iter {
-            self.assemble_full(params, omega, lambda, &mut t, &mut dt);
-            let rhs = &dt * &v;
-            let x = t.partial_piv_lu().solve(&rhs);
-            let ux = dot(&u, &x);
+        let mut last = f64::INFINITY;
+        for it in 0..max_iter {
+            self.eval_t(params, omega, lambda);
+            for i in 0..m {
+                let row = &self.dt[i * m..(i + 1) * m];
+                self.x[i] = row.iter().zip(&v).map(|(a, b)| a * b).sum();
+            }
+            if !lu_solve(&mut self.t, m, &mut self.piv, &mut self.x) {
+                return None;
+            }
+            let ux: Complex64 = u.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
+            let uv: Complex64 = u.iter().zip(&v).map(|(a, b)| a.conj() * b).sum();
             if ux.norm() == 0.0 || !ux.re.is_finite() || !ux.im.is_finite() {
                 return None;
             }
-            let uv = dot(&u, &v);
             let step = uv / ux;
             lambda -= step;
-            for i in 0..m {
-                v[(i, 0)] = x[(i, 0)] / ux;
+            for (vi, xi) in v.iter_mut().zip(&self.x) {
+                *vi = xi / ux;
             }
             if !lambda.re.is_finite() || !lambda.im.is_finite() {
                 return None;
             }
-            if step.norm() <= 1e-12 * scale {
-                return if v.col(0).iter().all(|z| z.re.is_finite()) && lambda != zero {
-                    Some(lambda)
-                } else {
-                    None
-                };
+            let s = step.norm();
+            let done = s <= 1e-12 * scale
+                || (sep > 0.0 && s <= 0.25 * last && s * s <= 1e-13 * scale * sep);
+            if done {
+                if lambda == Complex64::new(0.0, 0.0) {
+                    return None;
+                }
+                normalise(&mut v)?;
+                return Some((lambda, v, it + 1));
             }
+            last = s;
         }
         None
     }
 }
 
-fn dot(u: &Mat<Complex64>, v: &Mat<Complex64>) -> Complex64 {
-    (0..u.nrows()).map(|i| u[(i, 0)].conj() * v[(i, 0)]).sum()
+/// Iterations allowed to continue one exponent to the next point.
+const TRACK_ITER: usize = 5;
+/// Exponents closer than this (relative to Ω) are not tracked.
+const MIN_SEPARATION: f64 = 1e-6;
+
+/// The verdict on a list of exponents.
+fn floquet(mut exps: Vec<Complex64>, omega: f64, opts: &StabilityOptions, refined: bool) -> Floquet {
+    exps.sort_by(|a, b| b.re.total_cmp(&a.re));
+    let max_real = exps.first().map_or(f64::NEG_INFINITY, |l| l.re);
+    Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined }
+}
+
+/// For each exponent (one per conjugate pair), the distance to the nearest other one
+/// among all exponents, their conjugates and their copies shifted by `±iΩ` (its own
+/// conjugate and copies included: a pair meeting on the real axis or at `±Ω/2`).
+fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
+    let w = Complex64::new(0.0, omega);
+    l.iter()
+        .enumerate()
+        .map(|(i, &a)| {
+            let mut best = f64::INFINITY;
+            for (j, &b) in l.iter().enumerate() {
+                for z in [b, b.conj()] {
+                    for shift in [-1.0, 0.0, 1.0] {
+                        let d = (a - z - w * shift).norm();
+                        let itself = j == i && shift == 0.0 && z == a;
+                        if !itself {
+                            best = best.min(d);
+                        }
+                    }
+                }
+            }
+            best
+        })
+        .collect()
+}
+
+/// Scale `v` to unit 2-norm; `None` if it is zero or not finite.
+fn normalise(v: &mut [Complex64]) -> Option<()> {
+    let n = v.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+    if !(n > 0.0 && n.is_finite()) {
+        return None;
+    }
+    v.iter_mut().for_each(|z| *z /= n);
+    Some(())
+}
+
+/// Solve `A x = b` in place (`a` row-major `n × n`, overwritten by its LU factors with
+/// partial pivoting; `b` by `x`). `false` on a zero pivot. The Hill matrices are small
+/// (`n` ≲ 100): a plain loop beats a general kernel's setup and allocates nothing.
+fn lu_solve(a: &mut [Complex64], n: usize, piv: &mut [usize], b: &mut [Complex64]) -> bool {
+    for k in 0..n {
+        let mut p = k;
+        let mut best = a[k * n + k].norm_sqr();
+        for i in k + 1..n {
+            let v = a[i * n + k].norm_sqr();
+            if v > best {
+                best = v;
+                p = i;
+            }
+        }
+        if best == 0.0 || !best.is_finite() {
+            return false;
+        }
+        piv[k] = p;
+        if p != k {
+            for j in 0..n {
+                a.swap(k * n + j, p * n + j);
+            }
+            b.swap(k, p);
+        }
+        let inv = a[k * n + k].inv();
+        let (top, rest) = a.split_at_mut((k + 1) * n);
+        let rowk = &top[k * n..];
+        for i in 0..n - k - 1 {
+            let row = &mut rest[i * n..(i + 1) * n];
+            let f = row[k] * inv;
+            if f == Complex64::new(0.0, 0.0) {
+                continue;
+            }
+            row[k] = f;
+            for j in k + 1..n {
+                row[j] -= f * rowk[j];
+            }
+            b[k + 1 + i] -= f * b[k];
+        }
+    }
+    for k in (0..n).rev() {
+        let row = &a[k * n..(k + 1) * n];
+        let mut s = b[k];
+        for j in k + 1..n {
+            s -= row[j] * b[j];
+        }
+        b[k] = s / row[k];
+    }
+    true
 }
 
 /// Exponents are defined modulo `iΩ`; bring one into `(-Ω/2, Ω/2]`.
@@ -699,20 +1042,21 @@ fn binomial(n: usize, r: usize) -> f64 {
     (0..r).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
 }
 
-/// `dst[row0.., col0..] += c · P · D`, where `D` is the real-basis operator with
-/// constant factor `alpha[0]` and 2×2 blocks `[[α_k, -β_k], [β_k, α_k]]` on
-/// `(a_k, b_k)`; `P` is row-major `len × len`.
+/// `dst[row0.., col0..] += c · P · D` (`dst` row-major with `stride` columns), where
+/// `D` is the real-basis operator with constant factor `ab(0).0` and 2×2 blocks
+/// `[[α_k, -β_k], [β_k, α_k]]`, `(α_k, β_k) = ab(k)`, on `(a_k, b_k)`; `P` is
+/// row-major `len × len`.
 #[allow(clippy::too_many_arguments)]
 fn add_product<T>(
-    dst: &mut Mat<T>,
+    dst: &mut [T],
+    stride: usize,
     row0: usize,
     col0: usize,
     c: f64,
     p: &[f64],
     len: usize,
     nh: usize,
-    alpha: &[T],
-    beta: &[T],
+    ab: impl Fn(usize) -> (T, T),
 ) where
     T: Copy
         + std::ops::AddAssign
@@ -720,20 +1064,50 @@ fn add_product<T>(
         + std::ops::Mul<f64, Output = T>
         + std::ops::Neg<Output = T>,
 {
+    let a0 = ab(0).0;
     for l in 0..len {
         let pl = &p[l * len..(l + 1) * len];
+        let row = &mut dst[(row0 + l) * stride + col0..(row0 + l) * stride + col0 + len];
         let pc = pl[0] * c;
         if pc != 0.0 {
-            dst[(row0 + l, col0)] += alpha[0] * pc;
+            row[0] += a0 * pc;
         }
         for k in 1..=nh {
             let (pa, pb) = (pl[k] * c, pl[nh + k] * c);
             if pa == 0.0 && pb == 0.0 {
                 continue;
             }
+            let (alpha, beta) = ab(k);
             // (P D)[:, a_k] = P[:, a_k] α + P[:, b_k] β; (P D)[:, b_k] = -P[:, a_k] β + P[:, b_k] α
-            dst[(row0 + l, col0 + k)] += alpha[k] * pa + beta[k] * pb;
-            dst[(row0 + l, col0 + nh + k)] += -(beta[k] * pa) + alpha[k] * pb;
+            row[k] += alpha * pa + beta * pb;
+            row[nh + k] += -(beta * pa) + alpha * pb;
         }
+    }
+}
+
+/// [`add_product`] for `P = g·I` (a constant gradient, `cg = c·g`): only the diagonal
+/// 2×2 blocks of `D`.
+fn add_diag<T>(
+    dst: &mut [T],
+    stride: usize,
+    row0: usize,
+    col0: usize,
+    cg: f64,
+    nh: usize,
+    ab: impl Fn(usize) -> (T, T),
+) where
+    T: Copy + std::ops::AddAssign + std::ops::Mul<f64, Output = T> + std::ops::Neg<Output = T>,
+{
+    if cg == 0.0 {
+        return;
+    }
+    let at = |i: usize, j: usize| (row0 + i) * stride + col0 + j;
+    dst[at(0, 0)] += ab(0).0 * cg;
+    for k in 1..=nh {
+        let (alpha, beta) = ab(k);
+        dst[at(k, k)] += alpha * cg;
+        dst[at(k, nh + k)] += -(beta * cg);
+        dst[at(nh + k, k)] += beta * cg;
+        dst[at(nh + k, nh + k)] += alpha * cg;
     }
 }

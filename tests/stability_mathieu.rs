@@ -5,6 +5,8 @@
 //! must report that as period doubling, where the monodromy matrix (integrated here
 //! independently with RK4) has a multiplier -1.
 
+mod stability_common;
+
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
@@ -183,4 +185,12 @@ fn hill_exponents_match_monodromy_multipliers() {
         );
         assert_eq!(f.exponents.len(), 2);
     }
+}
+
+#[test]
+fn tracking_agrees_with_the_full_analysis_through_the_tongue() {
+    let opts = SweepOptions { harmonics: 6, ..Default::default() };
+    let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
+    let k = stability_common::compare(&MODEL, &curve, 6);
+    eprintln!("mathieu: {} points, {k:?}", curve.points.len());
 }

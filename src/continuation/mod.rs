@@ -23,7 +23,8 @@
 //!   ("amplitude bound"); the sweep then restarts from the other end of the range,
 //!   going backwards. A stalled segment does the same. Both pieces are returned and
 //!   nothing computed is discarded.
-//! - *Stability*: Hill's method at every point ([`crate::stability`]); a change of
+//! - *Stability*: Hill's method at every point ([`crate::stability`]), the exponents
+//!   tracked from point to point with a full eigensolve as fallback; a change of
 //!   stability that is not a fold is located along the arc and reported as a
 //!   bifurcation (period doubling, torus, branch point).
 //! - *Jumps*: slow up and down sweeps are simulated on the traced curve: follow the
@@ -776,8 +777,16 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             let mut growth = vec![f64::NAN; points.len()];
             let mut kinds = vec![None; points.len()];
             for (i, p) in points.iter_mut().enumerate() {
+                // Exponents are tracked from point to point, except across a segment
+                // start or a fold (there the full analysis runs).
+                let continues = i > 0
+                    && self.nodes[i].segment == self.nodes[i - 1].segment
+                    && !raw.iter().any(|f| f.after + 1 == i);
+                if !continues {
+                    hill.reset();
+                }
                 self.tr.set_point(&self.nodes[i].y);
-                match hill.analyse(&mut self.tr.bal, &p.coeffs, p.omega, &so) {
+                match hill.track(&mut self.tr.bal, &p.coeffs, p.omega, &so) {
                     Ok(f) => {
                         p.stable = f.stable;
                         growth[i] = f.max_real - so.tol * p.omega;

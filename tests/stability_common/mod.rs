@@ -1,0 +1,47 @@
+//! Shared by the stability tests: tracking vs the full analysis along a curve.
+
+use ihbm::balance::Balance;
+use ihbm::model::Model;
+use ihbm::results::Curve;
+use ihbm::stability::{Hill, StabilityOptions, TrackCounts};
+
+/// Track along `curve` as the continuation does (reset at segment starts and after a
+/// fold) and compare every point with a fresh full analysis.
+pub fn compare<M: Model>(model: &M, curve: &Curve, n: usize) -> TrackCounts {
+    let so = StabilityOptions::default();
+    let mut bal = Balance::new(model, n).unwrap();
+    let mut hill = Hill::new(model, n).unwrap();
+    let mut full = Hill::new(model, n).unwrap();
+    for (i, p) in curve.points.iter().enumerate() {
+        let continues = i > 0
+            && p.segment == curve.points[i - 1].segment
+            && !curve.folds.iter().any(|f| f.after + 1 == i);
+        if !continues {
+            hill.reset();
+        }
+        let t = hill.track(&mut bal, &p.coeffs, p.omega, &so).unwrap();
+        let f = full.analyse(&mut bal, &p.coeffs, p.omega, &so).unwrap();
+        assert_eq!(t.stable, f.stable, "point {i} Ω = {}: {t:?} vs {f:?}", p.omega);
+        assert_eq!(t.stable, p.stable, "point {i}: the sweep's verdict");
+        assert!(
+            (t.max_real - f.max_real).abs() <= 1e-8 * p.omega,
+            "point {i} Ω = {}: {} vs {} ({:?} vs {:?})",
+            p.omega,
+            t.max_real,
+            f.max_real,
+            t.exponents,
+            f.exponents
+        );
+        assert_eq!(t.exponents.len(), f.exponents.len(), "point {i}");
+        assert_eq!(
+            t.leading_crossing(p.omega),
+            f.leading_crossing(p.omega),
+            "point {i} Ω = {}",
+            p.omega
+        );
+    }
+    let c = hill.counts();
+    assert_eq!(c.full + c.tracked, curve.points.len());
+    c
+}
+
