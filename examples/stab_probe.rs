@@ -9,6 +9,11 @@ fn main() {
     let mut hill = Hill::new(&car, 5).unwrap();
     for p in &c.points {
         let f = hill.analyse(&mut bal, &p.coeffs, p.omega, &StabilityOptions::default()).unwrap();
-        println!("{:8.3} {} {:?}", p.omega, f.stable, f.exponents.iter().map(|z| format!("{:.4}{:+.4}i", z.re, z.im)).collect::<Vec<_>>());
+        println!(
+            "{:8.3} {} {:?}",
+            p.omega,
+            f.stable,
+            f.exponents.iter().map(|z| format!("{:.4}{:+.4}i", z.re, z.im)).collect::<Vec<_>>()
+        );
     }
 }

@@ -196,10 +196,8 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
-    /// Raw values of the last full analysis, one per conjugate pair (refined ones for
-    /// fractional models), and whether every refinement converged.
+    /// Candidates of the last full analysis, one per conjugate pair.
     raw: Vec<Complex64>,
-    raw_refined: bool,
     /// Complex kernels of the nonlinear iteration: `T`, `T'`, pivots, vectors.
     t: Vec<Complex64>,
     dt: Vec<Complex64>,
@@ -319,7 +317,6 @@ impl Hill {
             fractional,
             cands: Vec::with_capacity(big),
             raw: Vec::with_capacity(big),
-            raw_refined: true,
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
             piv: vec![0; m],
@@ -357,6 +354,7 @@ impl Hill {
         let mut refined = true;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.cands.len());
         self.raw.clear();
+        self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
         if self.fractional && opts.refine {
             // The exact (not frozen) polynomial part for the refinement.
             self.assemble_polynomial(params, omega, false);
@@ -366,10 +364,7 @@ impl Hill {
                     continue; // its conjugate is refined
                 }
                 let l = match self.refine(params, omega, c, opts.max_refine_iter) {
-                    Some(l) => {
-                        self.raw.push(l);
-                        fold_into_strip(l, omega)
-                    }
+                    Some(l) => fold_into_strip(l, omega),
                     None => {
                         refined = false;
                         c
@@ -383,9 +378,7 @@ impl Hill {
             self.cands = cands;
         } else {
             exps.extend_from_slice(&self.cands);
-            self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
         }
-        self.raw_refined = refined;
         Ok(floquet(exps, omega, opts, refined))
     }
 
@@ -419,7 +412,7 @@ impl Hill {
         self.counts.full += 1;
         let f = self.full(params, omega, opts);
         match &f {
-            Ok(fl) if fl.refined && self.raw_refined => self.start_state(params, omega),
+            Ok(fl) if fl.refined => self.start_state(params, omega),
             _ => self.state = None,
         }
         f
@@ -442,7 +435,8 @@ impl Hill {
     fn start_state(&mut self, params: &[f64], omega: f64) {
         self.state = None;
         let half = 0.5 * omega;
-        let n_out: usize = self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
+        let n_out: usize =
+            self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
         if self.raw.is_empty()
             || n_out != self.central_count()
             || self.raw.iter().any(|l| l.im.abs() >= half)
@@ -453,13 +447,13 @@ impl Hill {
         if sep.iter().any(|&s| s < MIN_SEPARATION * omega) {
             return;
         }
-        self.assemble_polynomial(params, omega, false);
+        self.assemble_polynomial(params, omega, true);
         let mut lambdas = Vec::with_capacity(self.raw.len());
         let mut vectors = Vec::with_capacity(self.raw.len());
         let raw = std::mem::take(&mut self.raw);
         for &l0 in &raw {
-            let Some(v) = self.start_vector(params, omega, l0) else { break };
-            match self.newton(params, omega, l0, v, 30, sep[lambdas.len()]) {
+            let Some(v) = self.start_vector(params, omega, l0, false) else { break };
+            match self.newton(params, omega, l0, v, 30, sep[lambdas.len()], false) {
                 Some((l, v, _)) if (l - l0).norm() <= 1e-8 * omega.max(l0.norm()) => {
                     lambdas.push(l);
                     vectors.push(v);
@@ -482,7 +476,7 @@ impl Hill {
         opts: &StabilityOptions,
         st: TrackState,
     ) -> Option<Floquet> {
-        self.assemble_polynomial(params, omega, false);
+        self.assemble_polynomial(params, omega, true);
         // Linear predictor in Ω (ratio of the steps, clamped; 1 on the parameter axis).
         let ratio = match &st.prev {
             Some((w0, _)) if (st.omega - w0).abs() > 0.0 && omega != st.omega => {
@@ -498,7 +492,8 @@ impl Hill {
                 Some((_, p)) => l + (l - p[i]) * ratio,
                 None => l,
             };
-            let (ln, vn, _) = self.newton(params, omega, pred, v.clone(), TRACK_ITER, st.sep[i])?;
+            let (ln, vn, _) =
+                self.newton(params, omega, pred, v.clone(), TRACK_ITER, st.sep[i], false)?;
             // Stay on the real axis / in the upper half plane as before.
             if (l.im == 0.0) != (ln.im == 0.0) || ln.im < 0.0 && l.im > 0.0 {
                 return None;
@@ -519,8 +514,16 @@ impl Hill {
         }
         let tie = 1e-12 * omega;
         let mut exps = Vec::with_capacity(2 * lambdas.len());
-        for &l in &lambdas {
-            let l = if self.fractional { fold_into_strip(l, omega) } else { l };
+        if self.fractional {
+            // Refine the tracked candidates exactly as the full analysis does.
+            self.assemble_polynomial(params, omega, false);
+        }
+        for &c in &lambdas {
+            let l = if self.fractional {
+                fold_into_strip(self.refine(params, omega, c, opts.max_refine_iter)?, omega)
+            } else {
+                c
+            };
             exps.push(l);
             if l.im.abs() > tie {
                 exps.push(l.conj());
@@ -622,9 +625,9 @@ impl Hill {
                         let dst = &mut self.coef[r];
                         let (r0, c0) = (e * len, d * len);
                         match self.diag[idx] {
-                            Some(g) => add_diag(dst, m, r0, c0, c * g, nh, |k| {
-                                (ab[k][0].re, ab[k][1].re)
-                            }),
+                            Some(g) => {
+                                add_diag(dst, m, r0, c0, c * g, nh, |k| (ab[k][0].re, ab[k][1].re))
+                            }
                             None => add_product(dst, m, r0, c0, c, p, len, nh, |k| {
                                 (ab[k][0].re, ab[k][1].re)
                             }),
@@ -743,10 +746,10 @@ impl Hill {
         Ok(())
     }
 
-    /// `T(λ)` and `T'(λ)` (row-major, into `self.t`, `self.dt`) with every order exact
-    /// (principal branch): the integer part from the polynomial `self.coef` (assembled
-    /// with `frozen = false`), the fractional signals added here.
-    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64) {
+    /// `T(λ)` and `T'(λ)` (row-major, into `self.t`, `self.dt`): the polynomial
+    /// `self.coef`, and, if `exact`, the fractional signals with their true factors
+    /// (principal branch; `self.coef` then assembled with `frozen = false`).
+    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64, exact: bool) {
         let (len, nh, nsig, m, d) =
             (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
         let zero = Complex64::new(0.0, 0.0);
@@ -771,7 +774,7 @@ impl Hill {
             *t = a;
             *dt = b;
         }
-        if !self.fractional {
+        if !(self.fractional && exact) {
             return;
         }
         let i1 = Complex64::new(0.0, 1.0);
@@ -793,8 +796,12 @@ impl Hill {
                 let w = Complex64::new(0.0, k as f64 * omega);
                 let (fp, dfp) = f(lambda + w);
                 let (fm, dfm) = f(lambda - w);
-                self.alpha[k] =
-                    [(fp + fm) * 0.5, i1 * (fp - fm) * 0.5, (dfp + dfm) * 0.5, i1 * (dfp - dfm) * 0.5];
+                self.alpha[k] = [
+                    (fp + fm) * 0.5,
+                    i1 * (fp - fm) * 0.5,
+                    (dfp + dfm) * 0.5,
+                    i1 * (dfp - dfm) * 0.5,
+                ];
             }
             let ab = &self.alpha;
             for e in 0..self.ndof {
@@ -823,8 +830,14 @@ impl Hill {
 
     /// One step of inverse iteration at `l0` from a fixed start vector: the start of
     /// the nonlinear iteration when no eigenvector is known.
-    fn start_vector(&mut self, params: &[f64], omega: f64, l0: Complex64) -> Option<Vec<Complex64>> {
-        self.eval_t(params, omega, l0);
+    fn start_vector(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        l0: Complex64,
+        exact: bool,
+    ) -> Option<Vec<Complex64>> {
+        self.eval_t(params, omega, l0, exact);
         let mut v: Vec<Complex64> =
             (0..self.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
         if !lu_solve(&mut self.t, self.m, &mut self.piv, &mut v) {
@@ -842,8 +855,8 @@ impl Hill {
         l0: Complex64,
         max_iter: usize,
     ) -> Option<Complex64> {
-        let v = self.start_vector(params, omega, l0)?;
-        self.newton(params, omega, l0, v, max_iter, 0.0).map(|(l, _, _)| l)
+        let v = self.start_vector(params, omega, l0, true)?;
+        self.newton(params, omega, l0, v, max_iter, 0.0, true).map(|(l, _, _)| l)
     }
 
     /// Nonlinear inverse iteration (Ruhe 1973) on `T(λ) v = 0` from `(l0, v)`, `v` of
@@ -860,6 +873,7 @@ impl Hill {
         mut v: Vec<Complex64>,
         max_iter: usize,
         sep: f64,
+        exact: bool,
     ) -> Option<(Complex64, Vec<Complex64>, usize)> {
         let m = self.m;
         let u = v.clone();
@@ -867,7 +881,7 @@ impl Hill {
         let scale = omega.max(l0.norm());
         let mut last = f64::INFINITY;
         for it in 0..max_iter {
-            self.eval_t(params, omega, lambda);
+            self.eval_t(params, omega, lambda, exact);
             for i in 0..m {
                 let row = &self.dt[i * m..(i + 1) * m];
                 self.x[i] = row.iter().zip(&v).map(|(a, b)| a * b).sum();
@@ -910,7 +924,12 @@ const TRACK_ITER: usize = 5;
 const MIN_SEPARATION: f64 = 1e-6;
 
 /// The verdict on a list of exponents.
-fn floquet(mut exps: Vec<Complex64>, omega: f64, opts: &StabilityOptions, refined: bool) -> Floquet {
+fn floquet(
+    mut exps: Vec<Complex64>,
+    omega: f64,
+    opts: &StabilityOptions,
+    refined: bool,
+) -> Floquet {
     exps.sort_by(|a, b| b.re.total_cmp(&a.re));
     let max_real = exps.first().map_or(f64::NEG_INFINITY, |l| l.re);
     Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined }

@@ -61,6 +61,10 @@ fn fractional_duffing() {
         let o = SweepOptions { harmonics: n, ..Default::default() };
         let c = sweep(&model, 0.5, 2.5, &o).unwrap();
         let k = compare(&model, &c, n);
-        eprintln!("fractional duffing N = {n}: {} points, {} folds, {k:?}", c.points.len(), c.folds.len());
+        eprintln!(
+            "fractional duffing N = {n}: {} points, {} folds, {k:?}",
+            c.points.len(),
+            c.folds.len()
+        );
     }
 }

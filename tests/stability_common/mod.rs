@@ -44,4 +44,3 @@ pub fn compare<M: Model>(model: &M, curve: &Curve, n: usize) -> TrackCounts {
     assert_eq!(c.full + c.tracked, curve.points.len());
     c
 }
-
