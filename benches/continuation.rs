@@ -1,8 +1,12 @@
 //! The whole quarter-car curve, Ω from 1 to 100 rad/s, N = 5: with Hill stability at
-//! every point (the goal: about 1 ms on one core), and without it.
+//! every point (the goal: about 1 ms on one core), and without it; and one
+//! stability analysis in full vs tracked from a neighbouring point.
 use criterion::{criterion_group, criterion_main, Criterion};
+use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::corrector::{solve, SolveOptions};
 use ihbm::models::QuarterCar;
+use ihbm::stability::{Hill, StabilityOptions};
 use std::hint::black_box;
 
 fn quarter_car_curve(c: &mut Criterion) {
@@ -22,5 +26,33 @@ fn quarter_car_curve(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, quarter_car_curve);
+/// One point of the quarter car at N = 5 (Ω = 60 and 60.5 rad/s, where every mode is
+/// resolved): the full analysis, and tracking from the other point (two calls per
+/// iteration, alternating, so that each starts from a genuine neighbour).
+fn hill_point(c: &mut Criterion) {
+    let car = QuarterCar::default();
+    let so = SolveOptions { harmonics: 5, ..Default::default() };
+    let pts: Vec<(f64, Vec<f64>)> = [60.0, 60.5]
+        .iter()
+        .map(|&w| (w, solve(&car, w, &so, None).expect("solution").coeffs))
+        .collect();
+    let opts = StabilityOptions::default();
+    let mut bal = Balance::new(&car, 5).expect("balance");
+    let mut hill = Hill::new(&car, 5).expect("hill");
+    let mut g = c.benchmark_group("stability");
+    g.bench_function("quarter_car_N5_analyse", |b| {
+        b.iter(|| hill.analyse(&mut bal, black_box(&pts[0].1), pts[0].0, &opts).expect("hill"))
+    });
+    g.bench_function("quarter_car_N5_track_two_points", |b| {
+        b.iter(|| {
+            for (w, a) in &pts {
+                hill.track(&mut bal, black_box(a), *w, &opts).expect("hill");
+            }
+        })
+    });
+    g.finish();
+    eprintln!("hill counts in the track bench: {:?}", hill.counts());
+}
+
+criterion_group!(benches, quarter_car_curve, hill_point);
 criterion_main!(benches);
