@@ -1176,3 +1176,49 @@ fn add_diag<T>(
         dst[at(nh + k, nh + k)] += alpha * cg;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn complex_lu_solves_with_pivoting() {
+        // A matrix whose first pivot is zero: pivoting is required.
+        let n = 5;
+        let a: Vec<Complex64> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k / n, k % n);
+                if i == 0 && j == 0 {
+                    Complex64::new(0.0, 0.0)
+                } else {
+                    let re = ((i * 7 + j * 3) % 11) as f64 - 5.0;
+                    Complex64::new(re, ((i + 2 * j) % 3) as f64)
+                }
+            })
+            .collect();
+        let x: Vec<Complex64> = (0..n).map(|i| Complex64::new(i as f64 - 2.0, 0.5)).collect();
+        let mut b: Vec<Complex64> =
+            (0..n).map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum()).collect();
+        let mut lu = a.clone();
+        let mut piv = vec![0; n];
+        assert!(lu_solve(&mut lu, n, &mut piv, &mut b));
+        for (bi, xi) in b.iter().zip(&x) {
+            assert!((bi - xi).norm() < 1e-12, "{bi} vs {xi}");
+        }
+    }
+
+    #[test]
+    fn diagonal_shortcut_equals_the_dense_product() {
+        // P = g·I through the dense path and the diagonal one.
+        let (nh, len, m) = (3, 7, 14);
+        let g = 2.5;
+        let p: Vec<f64> =
+            (0..len * len).map(|k| if k / len == k % len { g } else { 0.0 }).collect();
+        let ab = |k: usize| (Complex64::new(1.0 + k as f64, 0.3), Complex64::new(-0.2, k as f64));
+        let mut dense = vec![Complex64::new(0.0, 0.0); m * m];
+        let mut diag = dense.clone();
+        add_product(&mut dense, m, 7, 0, 1.5, &p, len, nh, ab);
+        add_diag(&mut diag, m, 7, 0, 1.5 * g, nh, ab);
+        assert_eq!(dense, diag);
+    }
+}
