@@ -499,7 +499,7 @@ impl Hill {
         let raw = std::mem::take(&mut self.raw);
         for &l0 in &raw {
             let Some(v) = self.start_vector(params, omega, l0, false) else { break };
-            match self.newton(params, omega, l0, v, 30, sep[lambdas.len()], false) {
+            match self.newton(params, omega, l0, v, 30, true, false) {
                 Some((l, v, _)) if (l - l0).norm() <= 1e-8 * omega.max(l0.norm()) => {
                     lambdas.push(l);
                     vectors.push(v);
@@ -539,7 +539,7 @@ impl Hill {
                 None => l,
             };
             let (ln, vn, _) =
-                self.newton(params, omega, pred, v.clone(), TRACK_ITER, st.sep[i], false)?;
+                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, false)?;
             // Stay on the real axis / in the upper half plane as before.
             if (l.im == 0.0) != (ln.im == 0.0) || ln.im < 0.0 && l.im > 0.0 {
                 return None;
@@ -795,7 +795,7 @@ impl Hill {
     /// `T(λ)` and `T'(λ)` (row-major, into `self.t`, `self.dt`): the polynomial
     /// `self.coef`, and, if `exact`, the fractional signals with their true factors
     /// (principal branch; `self.coef` then assembled with `frozen = false`).
-    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64, exact: bool) {
+    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64, exact: bool, want_t: bool) {
         let (len, nh, nsig, m, d) =
             (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
         let zero = Complex64::new(0.0, 0.0);
@@ -807,18 +807,25 @@ impl Hill {
             dpw[r] = if r == 0 { zero } else { pw[r - 1] * r as f64 };
             p *= lambda;
         }
-        for (i, (t, dt)) in self.t.iter_mut().zip(self.dt.iter_mut()).enumerate() {
-            let mut a = zero;
-            let mut b = zero;
-            for r in 0..=d {
-                let c = self.coef[r][i];
-                if c != 0.0 {
-                    a += pw[r] * c;
-                    b += dpw[r] * c;
+        // Row-major sweeps, one coefficient matrix at a time (vectorisable).
+        if want_t {
+            for (t, &c) in self.t.iter_mut().zip(&self.coef[0]) {
+                *t = Complex64::new(c, 0.0);
+            }
+        }
+        self.dt.fill(zero);
+        for r in 1..=d {
+            let (p, dp) = (pw[r], dpw[r]);
+            if want_t {
+                for ((t, dt), &c) in self.t.iter_mut().zip(self.dt.iter_mut()).zip(&self.coef[r]) {
+                    *t += p * c;
+                    *dt += dp * c;
+                }
+            } else {
+                for (dt, &c) in self.dt.iter_mut().zip(&self.coef[r]) {
+                    *dt += dp * c;
                 }
             }
-            *t = a;
-            *dt = b;
         }
         if !(self.fractional && exact) {
             return;
@@ -857,13 +864,19 @@ impl Hill {
                     let (r0, c0) = (e * len, dof * len);
                     match self.diag[idx] {
                         Some(g) => {
-                            add_diag(&mut self.t, m, r0, c0, c * g, nh, |k| (ab[k][0], ab[k][1]));
+                            if want_t {
+                                add_diag(&mut self.t, m, r0, c0, c * g, nh, |k| {
+                                    (ab[k][0], ab[k][1])
+                                });
+                            }
                             add_diag(&mut self.dt, m, r0, c0, c * g, nh, |k| (ab[k][2], ab[k][3]));
                         }
                         None => {
-                            add_product(&mut self.t, m, r0, c0, c, p, len, nh, |k| {
-                                (ab[k][0], ab[k][1])
-                            });
+                            if want_t {
+                                add_product(&mut self.t, m, r0, c0, c, p, len, nh, |k| {
+                                    (ab[k][0], ab[k][1])
+                                });
+                            }
                             add_product(&mut self.dt, m, r0, c0, c, p, len, nh, |k| {
                                 (ab[k][2], ab[k][3])
                             });
@@ -883,7 +896,7 @@ impl Hill {
         l0: Complex64,
         exact: bool,
     ) -> Option<Vec<Complex64>> {
-        self.eval_t(params, omega, l0, exact);
+        self.eval_t(params, omega, l0, exact, true);
         let mut v: Vec<Complex64> =
             (0..self.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
         if !lu_solve(&mut self.t, self.m, &mut self.piv, &mut v) {
@@ -902,15 +915,16 @@ impl Hill {
         max_iter: usize,
     ) -> Option<Complex64> {
         let v = self.start_vector(params, omega, l0, true)?;
-        self.newton(params, omega, l0, v, max_iter, 0.0, true).map(|(l, _, _)| l)
+        // `self.t` holds the LU of T(l0) from the start vector: the first step reuses it.
+        self.newton(params, omega, l0, v, max_iter, true, true).map(|(l, _, _)| l)
     }
 
     /// Nonlinear inverse iteration (Ruhe 1973) on `T(λ) v = 0` from `(l0, v)`, `v` of
     /// unit norm: `T(λ) x = T'(λ) v`, `λ ← λ - (uᴴv)/(uᴴx)`, `v ← x/(uᴴx)` with
-    /// `u` the start vector. Converged when the step is below `1e-12·scale`, or, when
-    /// `sep > 0` (the distance to the nearest other exponent, which bounds the
-    /// quadratic convergence constant), when the step contracted and its square is
-    /// below `1e-13·scale·sep`. The root, its unit eigenvector and the iterations.
+    /// `u` the start vector. Converged when the step is below `1e-12·scale`, or below
+    /// `1e-7·scale` and `1e-3` times the previous one (quadratic convergence observed:
+    /// the remaining error is then below `1e-10·scale`). `factored`: `self.t` already
+    /// holds the LU of `T(l0)`. The root, its unit eigenvector and the iterations.
     fn newton(
         &mut self,
         params: &[f64],
@@ -918,7 +932,7 @@ impl Hill {
         l0: Complex64,
         mut v: Vec<Complex64>,
         max_iter: usize,
-        sep: f64,
+        factored: bool,
         exact: bool,
     ) -> Option<(Complex64, Vec<Complex64>, usize)> {
         let m = self.m;
@@ -927,12 +941,19 @@ impl Hill {
         let scale = omega.max(l0.norm());
         let mut last = f64::INFINITY;
         for it in 0..max_iter {
-            self.eval_t(params, omega, lambda, exact);
+            let reuse = factored && it == 0;
+            self.eval_t(params, omega, lambda, exact, !reuse);
             for i in 0..m {
                 let row = &self.dt[i * m..(i + 1) * m];
                 self.x[i] = row.iter().zip(&v).map(|(a, b)| a * b).sum();
             }
-            if !lu_solve(&mut self.t, m, &mut self.piv, &mut self.x) {
+            let solved = if reuse {
+                lu_apply(&self.t, m, &self.piv, &mut self.x);
+                true
+            } else {
+                lu_solve(&mut self.t, m, &mut self.piv, &mut self.x)
+            };
+            if !solved {
                 return None;
             }
             let ux: Complex64 = u.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
@@ -949,8 +970,8 @@ impl Hill {
                 return None;
             }
             let s = step.norm();
-            let done = s <= 1e-12 * scale
-                || (sep > 0.0 && s <= 0.25 * last && s * s <= 1e-13 * scale * sep);
+            // Quadratic convergence: the next error is about s²/last ≤ 1e-3·s.
+            let done = s <= 1e-12 * scale || (s <= 1e-7 * scale && s <= 1e-3 * last);
             if done {
                 if lambda == Complex64::new(0.0, 0.0) {
                     return None;
@@ -1017,8 +1038,9 @@ fn normalise(v: &mut [Complex64]) -> Option<()> {
 }
 
 /// Solve `A x = b` in place (`a` row-major `n × n`, overwritten by its LU factors with
-/// partial pivoting; `b` by `x`). `false` on a zero pivot. The Hill matrices are small
-/// (`n` ≲ 100): a plain loop beats a general kernel's setup and allocates nothing.
+/// partial pivoting, `piv` by the row swaps; `b` by `x`). `false` on a zero pivot. The
+/// Hill matrices are small (`n` ≲ 100): a plain loop allocates nothing and needs no
+/// setup.
 fn lu_solve(a: &mut [Complex64], n: usize, piv: &mut [usize], b: &mut [Complex64]) -> bool {
     for k in 0..n {
         let mut p = k;
@@ -1035,36 +1057,43 @@ fn lu_solve(a: &mut [Complex64], n: usize, piv: &mut [usize], b: &mut [Complex64
         }
         piv[k] = p;
         if p != k {
-            for j in 0..n {
-                a.swap(k * n + j, p * n + j);
-            }
-            b.swap(k, p);
+            let (top, rest) = a.split_at_mut(p * n);
+            top[k * n..(k + 1) * n].swap_with_slice(&mut rest[..n]);
         }
         let inv = a[k * n + k].inv();
         let (top, rest) = a.split_at_mut((k + 1) * n);
-        let rowk = &top[k * n..];
-        for i in 0..n - k - 1 {
-            let row = &mut rest[i * n..(i + 1) * n];
+        let rowk = &top[k * n + k + 1..(k + 1) * n];
+        for row in rest.chunks_exact_mut(n) {
             let f = row[k] * inv;
-            if f == Complex64::new(0.0, 0.0) {
-                continue;
-            }
             row[k] = f;
-            for j in k + 1..n {
-                row[j] -= f * rowk[j];
+            if f != Complex64::new(0.0, 0.0) {
+                for (x, &y) in row[k + 1..].iter_mut().zip(rowk) {
+                    *x -= f * y;
+                }
             }
-            b[k + 1 + i] -= f * b[k];
+        }
+    }
+    lu_apply(a, n, piv, b);
+    true
+}
+
+/// Solve with the factors and swaps left by [`lu_solve`].
+fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
+    // The factors are those of P·A (rows swapped in full): all swaps first.
+    for (k, &p) in piv.iter().enumerate().take(n) {
+        b.swap(k, p);
+    }
+    for k in 0..n {
+        let bk = b[k];
+        for i in k + 1..n {
+            b[i] -= a[i * n + k] * bk;
         }
     }
     for k in (0..n).rev() {
         let row = &a[k * n..(k + 1) * n];
-        let mut s = b[k];
-        for j in k + 1..n {
-            s -= row[j] * b[j];
-        }
-        b[k] = s / row[k];
+        let s: Complex64 = row[k + 1..].iter().zip(&b[k + 1..]).map(|(x, y)| x * y).sum();
+        b[k] = (b[k] - s) / row[k];
     }
-    true
 }
 
 /// Exponents are defined modulo `iΩ`; bring one into `(-Ω/2, Ω/2]`.
@@ -1184,7 +1213,7 @@ mod tests {
     #[test]
     fn complex_lu_solves_with_pivoting() {
         // A matrix whose first pivot is zero: pivoting is required.
-        let n = 5;
+        let n = 7;
         let a: Vec<Complex64> = (0..n * n)
             .map(|k| {
                 let (i, j) = (k / n, k % n);
@@ -1205,6 +1234,15 @@ mod tests {
         for (bi, xi) in b.iter().zip(&x) {
             assert!((bi - xi).norm() < 1e-12, "{bi} vs {xi}");
         }
+        // The stored factors solve another right-hand side (the reuse in `newton`).
+        let y: Vec<Complex64> = (0..n).map(|i| Complex64::new(0.3, i as f64)).collect();
+        let mut c: Vec<Complex64> =
+            (0..n).map(|i| (0..n).map(|j| a[i * n + j] * y[j]).sum()).collect();
+        lu_apply(&lu, n, &piv, &mut c);
+        for (ci, yi) in c.iter().zip(&y) {
+            assert!((ci - yi).norm() < 1e-12, "{ci} vs {yi}");
+        }
+        assert!(piv.iter().enumerate().filter(|&(k, &p)| p != k).count() >= 2, "{piv:?}");
     }
 
     #[test]
