@@ -925,6 +925,7 @@ impl Hill {
     /// `1e-7·scale` and `1e-3` times the previous one (quadratic convergence observed:
     /// the remaining error is then below `1e-10·scale`). `factored`: `self.t` already
     /// holds the LU of `T(l0)`. The root, its unit eigenvector and the iterations.
+    #[allow(clippy::too_many_arguments)] // the iteration's inputs, no natural grouping
     fn newton(
         &mut self,
         params: &[f64],
