@@ -428,12 +428,13 @@ impl Hill {
         Ok(floquet(exps, omega, opts, refined))
     }
 
-    /// Like [`Hill::analyse`], but along a curve: the central exponents of the previous
-    /// point are continued to this one by Newton's method on `T(λ) v = 0` (from the
-    /// previous exponent and eigenvector), and the full analysis runs only when that
-    /// cannot be trusted (see the module docs: *Tracking*). Call [`Hill::reset`] when
-    /// the next point does not continue the previous one (new segment, a fold in
-    /// between). The verdict is the full analysis's.
+    /// Like [`Hill::analyse`], but along a curve: the central candidates of the
+    /// previous point are continued to this one by Newton's method on `T(λ) v = 0`
+    /// (from the previous eigenvalue and eigenvector; fractional ones are then refined
+    /// as in the full analysis), and the full analysis runs only when that cannot be
+    /// trusted (module docs, *Tracking along a curve*). Call [`Hill::reset`] when the
+    /// next point does not continue the previous one (new segment, a fold in between).
+    /// The result is the full analysis's, to the iterations' tolerance (`1e-10·Ω`).
     pub fn track<M: Model>(
         &mut self,
         bal: &mut Balance<'_, M>,
