@@ -242,8 +242,10 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
-    /// Candidates of the last full analysis, one per conjugate pair.
+    /// Candidates of the last full analysis, one per conjugate pair, and the smallest
+    /// `|Im|` of an eigenvalue it left out.
     raw: Vec<Complex64>,
+    next_im: f64,
     /// Complex kernels of the nonlinear iteration: `T`, `T'`, pivots, vectors.
     t: Vec<Complex64>,
     dt: Vec<Complex64>,
@@ -363,6 +365,7 @@ impl Hill {
             fractional,
             cands: Vec::with_capacity(big),
             raw: Vec::with_capacity(big),
+            next_im: f64::INFINITY,
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
             piv: vec![0; m],
@@ -476,9 +479,9 @@ impl Hill {
     }
 
     /// Tracking state from the last full analysis (`self.raw`), if its selection is
-    /// clean: every raw exponent inside the central strip and well separated from the
-    /// others, their conjugates and copies. Otherwise no state (the next point is
-    /// analysed in full too).
+    /// clean: every candidate inside the central strip, every eigenvalue left out
+    /// outside it, and the candidates well separated from each other, their conjugates
+    /// and copies. Otherwise no state (the next point is analysed in full too).
     fn start_state(&mut self, params: &[f64], omega: f64) {
         self.state = None;
         let half = 0.5 * omega;
@@ -487,6 +490,7 @@ impl Hill {
         if self.raw.is_empty()
             || n_out != self.central_count()
             || self.raw.iter().any(|l| l.im.abs() >= half)
+            || self.next_im < half
         {
             return;
         }
@@ -1108,7 +1112,10 @@ fn fold_into_strip(l: Complex64, omega: f64) -> Complex64 {
 /// `iΩ` are the same Floquet exponent (at `|Im λ| = Ω/2`, period doubling, `λ` and
 /// `conj λ = λ - iΩ` both appear), and among near-equal |Im| the larger real part
 /// comes first so that a growing exponent is never the one left out.
-fn select_central(c: &mut Vec<Complex64>, count: usize, omega: f64) {
+///
+/// Returns the smallest `|Im|` among the values left out that are not copies of kept
+/// ones (infinite if there are none): how far the selection is from changing.
+fn select_central(c: &mut Vec<Complex64>, count: usize, omega: f64) -> f64 {
     let tie = 1e-6 * omega;
     c.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()));
     let mut start = 0;
@@ -1119,19 +1126,23 @@ fn select_central(c: &mut Vec<Complex64>, count: usize, omega: f64) {
         start = end;
     }
     let mut kept: Vec<Complex64> = Vec::with_capacity(count);
+    let mut next = f64::INFINITY;
     for &z in c.iter() {
-        if kept.len() == count {
-            break;
-        }
         let same = kept.iter().any(|k| {
             let d = (z.im - k.im).rem_euclid(omega);
             (z.re - k.re).abs() <= tie && (d <= tie || omega - d <= tie)
         });
-        if !same {
-            kept.push(z);
+        if same {
+            continue;
         }
+        if kept.len() == count {
+            next = z.im.abs();
+            break;
+        }
+        kept.push(z);
     }
     *c = kept;
+    next
 }
 
 fn binomial(n: usize, r: usize) -> f64 {
