@@ -530,6 +530,15 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 for i in 0..=n {
                     y[i] = nd.y[i] + h * dirv[i];
                 }
+                // Second order: the curvature from the last two tangents, so that the
+                // first Newton step lands close enough for chord updates to finish.
+                if opts.predictor == Predictor::Tangent && last > first && nd.h > 0.0 {
+                    let prev = &self.nodes[last - 1];
+                    let f = 0.5 * h * h / nd.h;
+                    for i in 0..=n {
+                        y[i] += f * (nd.t[i] - prev.t[i]);
+                    }
+                }
             }
             let target = dot(&dirv, &self.nodes[last].y) + h;
             let it = match self.tr.correct(&mut y, &dirv, target) {
@@ -560,7 +569,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 let mut yb: Vec<f64> = yl.iter().zip(&y).map(|(a, c)| a + f * (c - a)).collect();
                 let mut e_n = vec![0.0; n + 1];
                 e_n[n] = 1.0;
-                return match self.tr.correct(&mut yb, &e_n, b) {
+                return match self.tr.correct_exact(&mut yb, &e_n, b) {
                     Ok(_) => {
                         let mut tb = vec![0.0; n + 1];
                         self.tr.tangent(&mut tb);
@@ -585,10 +594,11 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 return SegmentEnd::AmplitudeBound;
             }
             // Step control: corrector effort and tangent turn.
+            // (Newton iterations: chord updates in between are cheap.)
             let mut factor: f64 = match it {
-                0..=2 => 1.6,
-                3 => 1.25,
-                4 => 1.0,
+                0..=1 => 1.6,
+                2 => 1.25,
+                3 => 1.0,
                 _ => 0.6,
             };
             if angle > 0.0 {
@@ -671,7 +681,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             for i in 0..=n {
                 y[i] = y_i[i] + s * dirv[i];
             }
-            if self.tr.correct(&mut y, dirv, base + s).is_err() {
+            if self.tr.correct_exact(&mut y, dirv, base + s).is_err() {
                 break;
             }
             self.tr.tangent(&mut t);
@@ -812,6 +822,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         }
         self.stats.folds = folds.len();
         self.stats.corrector_iterations = self.tr.iterations;
+        self.stats.chord_steps = self.tr.chord_steps;
         let output_names: Vec<String> =
             model.outputs().iter().map(|o| o.name.to_string()).collect();
         let jumps = find_jumps(&points, &folds, &output_names);
