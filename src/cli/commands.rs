@@ -1,7 +1,7 @@
 //! What each subcommand does, given parsed arguments and the registered models.
 
 use super::args::Command;
-use super::engine::{SimSettings, SolveSettings, SweepSettings};
+use super::engine::{SimSettings, SolveSettings};
 use super::progress;
 use super::registry::{AnyModel, Registry};
 use super::Failure;
@@ -9,7 +9,8 @@ use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
 use crate::study;
 use std::io::Write;
-use std::path::Path;
+use crate::results::Curve;
+use std::path::{Path, PathBuf};
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
@@ -60,69 +61,45 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, harmonics, set, csv, json, plot } => {
+        Command::Sweep { name, from, to, harmonics, set, csv, json, plot, cont } => {
             let model = configured(reg, &name, &set)?;
-            let settings = SweepSettings { harmonics, ..SweepSettings::default() };
+            let settings = cont.settings(harmonics);
             let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
             let curve = model.sweep(from, to, &settings).map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
-            if let Some(path) = &csv {
-                report::write_file(path, &report::curve_csv(&curve)).map_err(Failure::failed)?;
-            }
-            if let Some(path) = &plot {
-                let panels = curve
-                    .output_names
-                    .iter()
-                    .map(|o| Panel { output: o.clone(), label: format!("max |{o}|") })
-                    .collect();
-                let fig = Figure {
-                    title: format!("{name}: amplitude–frequency curve, N = {harmonics}"),
-                    unit: FreqUnit::RadPerSec,
-                    panels,
-                    series: vec![Series { label: name.clone(), curve: &curve }],
-                    markers: vec![],
-                };
-                let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
-                report::write_file(path, &svg).map_err(Failure::failed)?;
-            }
-            match json.as_deref() {
-                Some(target) => emit_json(&report::sweep_json(&curve), target, out)?,
-                None => {
-                    w(
-                        out,
-                        format_args!(
-                            "{name}: {} points, {} folds, {} jumps, {} segments\n",
-                            curve.points.len(),
-                            curve.folds.len(),
-                            curve.jumps.len(),
-                            curve.segments.len()
-                        ),
-                    )?;
-                    for f in &curve.folds {
-                        w(out, format_args!("  fold at Ω = {:.8} rad/s\n", f.omega))?;
-                    }
-                    for j in &curve.jumps {
-                        w(
-                            out,
-                            format_args!(
-                                "  jump ({:?}) at Ω = {:.6} rad/s: {} {:.6e} -> {:.6e}\n",
-                                j.direction, j.omega, j.output, j.from, j.to
-                            ),
-                        )?;
-                    }
-                    for s in &curve.segments {
-                        w(
-                            out,
-                            format_args!(
-                                "  segment {} -> {} rad/s: {}\n",
-                                s.from_omega, s.to_omega, s.ended
-                            ),
-                        )?;
-                    }
-                }
-            }
-            Ok(())
+            let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
+            let files = CurveFiles { csv, json, plot };
+            write_curve(&curve, &name, &title, &files, out)
+        }
+        Command::SweepParam {
+            name,
+            param,
+            from,
+            to,
+            omega,
+            harmonics,
+            set,
+            csv,
+            json,
+            plot,
+            cont,
+        } => {
+            let model = configured(reg, &name, &set)?;
+            let settings = cont.settings(harmonics);
+            let pb = progress::spinner(&format!(
+                "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
+            ));
+            let curve =
+                model.sweep_param(&param, from, to, omega, &settings).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            let curve = curve?;
+            let title = format!(
+                "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
+                curve.harmonics
+            );
+            let files = CurveFiles { csv, json, plot };
+            write_curve(&curve, &name, &title, &files, out)
         }
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
             let model = configured(reg, &name, &set)?;
@@ -153,6 +130,93 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
         }
         Command::Run { study: file, out: dir } => run(reg, file.as_deref(), &dir, out),
     }
+}
+
+/// Where `sweep` and `sweep-param` write a curve.
+struct CurveFiles {
+    csv: Option<PathBuf>,
+    json: Option<String>,
+    plot: Option<PathBuf>,
+}
+
+/// Write a traced curve: CSV, SVG, and the JSON or a human summary.
+fn write_curve(
+    curve: &Curve,
+    name: &str,
+    title: &str,
+    files: &CurveFiles,
+    out: &mut dyn Write,
+) -> Result<(), Failure> {
+    if let Some(path) = &files.csv {
+        report::write_file(path, &report::curve_csv(curve)).map_err(Failure::failed)?;
+    }
+    if let Some(path) = &files.plot {
+        let panels = curve
+            .output_names
+            .iter()
+            .map(|o| Panel { output: o.clone(), label: format!("max |{o}|") })
+            .collect();
+        let fig = Figure {
+            title: title.to_string(),
+            unit: FreqUnit::RadPerSec,
+            panels,
+            series: vec![Series { label: name.to_string(), curve }],
+            markers: vec![],
+        };
+        let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
+        report::write_file(path, &svg).map_err(Failure::failed)?;
+    }
+    if let Some(target) = files.json.as_deref() {
+        return emit_json(&report::sweep_json(curve), target, out);
+    }
+    // The continuation parameter as people write it, with its unit.
+    let (p, unit) = if curve.parameter == "omega" {
+        ("Ω".to_string(), " rad/s")
+    } else {
+        (curve.parameter.clone(), "")
+    };
+    w(
+        out,
+        format_args!(
+            "{name}: {} points, {} folds, {} jumps, {} segments\n",
+            curve.points.len(),
+            curve.folds.len(),
+            curve.jumps.len(),
+            curve.segments.len()
+        ),
+    )?;
+    for f in &curve.folds {
+        w(out, format_args!("  fold at {p} = {:.8}{unit}\n", f.param))?;
+    }
+    for j in &curve.jumps {
+        w(
+            out,
+            format_args!(
+                "  jump ({:?}) at {p} = {:.6}{unit}: {} {:.6e} -> {:.6e}\n",
+                j.direction, j.omega, j.output, j.from, j.to
+            ),
+        )?;
+    }
+    for s in &curve.segments {
+        w(
+            out,
+            format_args!("  segment {p} = {} -> {}{unit}: {}\n", s.from_omega, s.to_omega, s.ended),
+        )?;
+    }
+    if let Some(c) = &curve.convergence {
+        let ns: Vec<String> = c.levels.iter().map(|l| l.harmonics.to_string()).collect();
+        w(
+            out,
+            format_args!(
+                "  harmonic convergence (N = {}): estimated relative error {:.3e}, {} (tol {:e})\n",
+                ns.join(", "),
+                c.estimate,
+                if c.converged { "converged" } else { "NOT converged" },
+                c.tol
+            ),
+        )?;
+    }
+    Ok(())
 }
 
 fn w(out: &mut dyn Write, args: std::fmt::Arguments) -> Result<(), Failure> {

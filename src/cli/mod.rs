@@ -12,6 +12,7 @@ mod commands;
 pub mod engine;
 pub mod progress;
 pub mod registry;
+pub mod settings;
 
 use crate::model::Model;
 use clap::Parser;
