@@ -81,6 +81,7 @@ fn help_on_every_command() {
         vec!["models", "--help"],
         vec!["solve", "--help"],
         vec!["sweep", "--help"],
+        vec!["sweep-param", "--help"],
         vec!["simulate", "--help"],
         vec!["run", "--help"],
     ] {

@@ -170,7 +170,7 @@ pub struct ContinuationArgs {
     #[arg(long, value_name = "BOUND", value_parser = parse_bound)]
     pub amplitude_bound: Option<Bound>,
     /// Cap on accepted continuation steps [default: 20000].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub max_steps: Option<usize>,
     /// Skip Hill stability (faster): every point is reported stable and jumps may land
     /// on unstable branches.
