@@ -362,6 +362,8 @@ fn bad_continuation_flags_name_the_flag_and_value() {
     assert_rejected(&s(&["--converge=-1e-3"]), &["--converge", "-0.001"]);
     assert_rejected(&s(&["--converge=soon"]), &["--converge", "soon"]);
     assert_rejected(&s(&["--no-stability=yes"]), &["--no-stability"]);
+    // The tolerance needs '=' (a bare --converge may be followed by other arguments).
+    assert_rejected(&s(&["--converge", "1e-4"]), &["1e-4", "--converge=TOL"]);
 }
 
 #[test]
@@ -466,6 +468,8 @@ fn study_sweep_tables_take_the_same_settings_and_checks() {
     let v: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("lin.json")).unwrap())
         .unwrap();
     assert_eq!(v["convergence"]["converged"], true, "{}", v["convergence"]);
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("harmonic convergence (N = 1, 3)"), "{summary}");
     for p in points(&v) {
         let exact = linear(1.0, 0.1, 1.0, 0.0, 1.0, 0.5, f(p, "omega"));
         assert!((x_max(p) - exact).abs() < 1e-9 * exact);

@@ -204,17 +204,7 @@ fn write_curve(
         )?;
     }
     if let Some(c) = &curve.convergence {
-        let ns: Vec<String> = c.levels.iter().map(|l| l.harmonics.to_string()).collect();
-        w(
-            out,
-            format_args!(
-                "  harmonic convergence (N = {}): estimated relative error {:.3e}, {} (tol {:e})\n",
-                ns.join(", "),
-                c.estimate,
-                if c.converged { "converged" } else { "NOT converged" },
-                c.tol
-            ),
-        )?;
+        w(out, format_args!("  {}\n", report::convergence_line(c)))?;
     }
     Ok(())
 }
