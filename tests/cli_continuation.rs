@@ -258,7 +258,8 @@ fn smaller_max_step_gives_more_points_on_the_same_curve() {
     let base = ["sweep", "duffing", "--from", "0.5", "--to", "2", "--set", "k3=0"];
     let coarse = json(&with(&base, &["--json"]));
     let fine = json(&with(&base, &["--max-step", "0.01", "--json"]));
-    let secant = json(&with(&base, &["--predictor", "secant", "--initial-step", "0.001", "--json"]));
+    let secant =
+        json(&with(&base, &["--predictor", "secant", "--initial-step", "0.001", "--json"]));
     assert!(
         points(&fine).len() > 2 * points(&coarse).len(),
         "{} vs {}",
@@ -277,7 +278,8 @@ fn smaller_max_step_gives_more_points_on_the_same_curve() {
 #[test]
 fn amplitude_bound_ends_a_segment_where_asked() {
     // Lightly damped linear oscillator: the peak F/(cΩ) ≈ 0.5 / 0.01 = 50 exceeds 1.
-    let base = ["sweep", "duffing", "--from", "0.5", "--to", "2", "--set", "k3=0", "--set", "c=0.01"];
+    let base =
+        ["sweep", "duffing", "--from", "0.5", "--to", "2", "--set", "k3=0", "--set", "c=0.01"];
     let v = json(&with(&base, &["--amplitude-bound", "abs:1", "--json"]));
     let segs = v["segments"].as_array().unwrap();
     assert!(segs.iter().all(|s| s["ended"] == "amplitude bound"), "{segs:?}");
@@ -313,7 +315,8 @@ fn converge_reports_an_estimate_that_two_plain_runs_confirm() {
         args[7] = &n;
         let v = json(&with(&args, &["--json"]));
         let peak = points(&v).iter().map(x_max).fold(0.0, f64::max);
-        let folds: Vec<f64> = v["folds"].as_array().unwrap().iter().map(|x| f(x, "omega")).collect();
+        let folds: Vec<f64> =
+            v["folds"].as_array().unwrap().iter().map(|x| f(x, "omega")).collect();
         (peak, folds)
     };
     let (p1, f1) = run(last - 2);
@@ -335,9 +338,8 @@ fn converge_reports_an_estimate_that_two_plain_runs_confirm() {
 
 #[test]
 fn bad_continuation_flags_name_the_flag_and_value() {
-    let s = |extra: &[&'static str]| {
-        with(&["sweep", "duffing", "--from", "0.5", "--to", "2"], extra)
-    };
+    let s =
+        |extra: &[&'static str]| with(&["sweep", "duffing", "--from", "0.5", "--to", "2"], extra);
     assert_rejected(&s(&["--max-step", "-1"]), &["--max-step", "-1", "> 0"]);
     assert_rejected(&s(&["--max-step", "0"]), &["--max-step", "0"]);
     assert_rejected(&s(&["--min-step", "nan"]), &["--min-step", "NaN"]);
@@ -354,7 +356,10 @@ fn bad_continuation_flags_name_the_flag_and_value() {
     );
     assert_rejected(&s(&["--predictor", "euler"]), &["--predictor", "euler", "tangent", "secant"]);
     for bad in ["rel:x", "abs:-1", "half", "max:3", "rel:0"] {
-        assert_rejected(&s(&["--amplitude-bound", bad]), &["--amplitude-bound", bad, "rel:", "none"]);
+        assert_rejected(
+            &s(&["--amplitude-bound", bad]),
+            &["--amplitude-bound", bad, "rel:", "none"],
+        );
     }
     assert_rejected(&s(&["--max-steps", "0"]), &["--max-steps", "0"]);
     assert_rejected(&s(&["--max-steps", "-5"]), &["--max-steps", "-5"]);
@@ -447,7 +452,10 @@ fn study_sweep_tables_take_the_same_settings_and_checks() {
     let bad = write("bad_tol.toml", "tol = -1.0");
     assert_rejected(&["run", bad.to_str().unwrap()], &["bad_tol.toml", "sweep.tol = -1", "> 0"]);
     let bad = write("bad_bound.toml", "amplitude_bound = \"rel:x\"");
-    assert_rejected(&["run", bad.to_str().unwrap()], &["bad_bound.toml", "amplitude_bound", "rel:x"]);
+    assert_rejected(
+        &["run", bad.to_str().unwrap()],
+        &["bad_bound.toml", "amplitude_bound", "rel:x"],
+    );
     let bad = write("bad_steps.toml", "min_step = 0.5, max_step = 0.1");
     assert_rejected(
         &["run", bad.to_str().unwrap()],
@@ -465,8 +473,8 @@ fn study_sweep_tables_take_the_same_settings_and_checks() {
     let dir = tmp("good-out");
     let o = ihbm(&["run", good.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let v: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("lin.json")).unwrap())
-        .unwrap();
+    let v: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("lin.json")).unwrap()).unwrap();
     assert_eq!(v["convergence"]["converged"], true, "{}", v["convergence"]);
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(summary.contains("harmonic convergence (N = 1, 3)"), "{summary}");

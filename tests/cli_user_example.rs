@@ -93,8 +93,18 @@ fn user_models_get_sweep_param_too() {
         assert!((got - x).abs() < 1e-8 * x, "p = {p}: {got} vs {x}");
     }
     // Errors name the registered model.
-    let (code, _, err) =
-        run(&["sweep-param", "base-isolator", "--param", "zz", "--from", "0", "--to", "1", "--omega", "1"]);
+    let (code, _, err) = run(&[
+        "sweep-param",
+        "base-isolator",
+        "--param",
+        "zz",
+        "--from",
+        "0",
+        "--to",
+        "1",
+        "--omega",
+        "1",
+    ]);
     assert_eq!(code, 2);
     assert!(err.contains("unknown parameter 'zz'") && err.contains("'base-isolator'"), "{err}");
 }

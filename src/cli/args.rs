@@ -196,9 +196,9 @@ impl ContinuationArgs {
             amplitude_bound: self.amplitude_bound,
             max_steps: self.max_steps,
             stability: self.no_stability.then_some(false),
-            converge: self.converge.map(|t| {
-                t.unwrap_or(crate::continuation::ConvergenceOptions::default().tol)
-            }),
+            converge: self
+                .converge
+                .map(|t| t.unwrap_or(crate::continuation::ConvergenceOptions::default().tol)),
         }
     }
 }

@@ -7,9 +7,9 @@ use super::registry::{AnyModel, Registry};
 use super::Failure;
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
+use crate::results::Curve;
 use crate::study;
 use std::io::Write;
-use crate::results::Curve;
 use std::path::{Path, PathBuf};
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {

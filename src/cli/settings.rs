@@ -346,9 +346,10 @@ mod tests {
         let e = SweepSettings { tol: Some(-1.0), ..Default::default() }.options().unwrap_err();
         assert_eq!(e.cli().to_string(), "invalid --tol: -1 (expected a finite number > 0)");
         assert_eq!(e.study(), "sweep.tol = -1: expected a finite number > 0");
-        let e = SweepSettings { initial_step: Some(0.3), max_step: Some(0.2), ..Default::default() }
-            .options()
-            .unwrap_err();
+        let e =
+            SweepSettings { initial_step: Some(0.3), max_step: Some(0.2), ..Default::default() }
+                .options()
+                .unwrap_err();
         assert_eq!(e.study(), "sweep.initial_step = 0.3: expected at most sweep.max_step (0.2)");
         let e = SweepSettings { max_steps: Some(0), ..Default::default() }.options().unwrap_err();
         assert_eq!(e.flag(), "--max-steps");
