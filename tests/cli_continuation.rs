@@ -5,28 +5,11 @@
 //! runs (stability does not move points; the convergence estimate is the change
 //! between two independent runs), and error messages that name flag and value.
 
+mod cli_common;
+
+use cli_common::{assert_rejected, ihbm, stderr, stdout, tmp};
 use num_complex::Complex64;
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn ihbm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ihbm")).args(args).output().expect("the ihbm binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ihbm-cli-cont-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 /// Run, expect success, parse the JSON written to standard output.
 fn json(args: &[&str]) -> Value {
@@ -35,16 +18,15 @@ fn json(args: &[&str]) -> Value {
     serde_json::from_str(&stdout(&o)).unwrap_or_else(|e| panic!("{args:?}: {e}"))
 }
 
-/// A bad input: non-zero exit, one line on stderr that contains every `needle`.
-fn assert_rejected(args: &[&str], needles: &[&str]) {
-    let o = ihbm(args);
-    assert!(!o.status.success(), "{args:?} succeeded: {}", stdout(&o));
-    assert_eq!(o.status.code(), Some(2), "{args:?}: bad input exits with 2");
-    let err = stderr(&o);
-    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{args:?}: stderr does not name '{n}': {err}");
-    }
+/// A bad input: exit status 2 (bad input), one line naming every `needle`.
+fn assert_usage(args: &[&str], needles: &[&str]) {
+    assert_rejected(args, needles);
+    assert_eq!(ihbm(args).status.code(), Some(2), "{args:?}: bad input exits with 2");
+}
+
+/// Words of a command line (no argument here contains a space).
+fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
 }
 
 fn points(v: &Value) -> &Vec<Value> {
@@ -69,26 +51,12 @@ fn linear(m: f64, c: f64, k: f64, h: f64, p: f64, force: f64, omega: f64) -> f64
 fn sweep_param_force_on_a_linear_oscillator_is_proportional() {
     // Duffing defaults m = 1, c = 0.1, k = 1 with k3 = 0: |X| = F / |k - mΩ² + icΩ|.
     let (csv, svg) = (tmp("force.csv"), tmp("force.svg"));
-    let v = json(&[
-        "sweep-param",
-        "duffing",
-        "--param",
-        "F",
-        "--from",
-        "0.1",
-        "--to",
-        "2",
-        "--omega",
-        "1.2",
-        "--set",
-        "k3=0",
-        "--csv",
-        csv.to_str().unwrap(),
-        "--plot",
-        svg.to_str().unwrap(),
-        "--json",
-        "-",
-    ]);
+    let line = format!(
+        "sweep-param duffing --param F --from 0.1 --to 2 --omega 1.2 --set k3=0 --csv {} --plot {} --json -",
+        csv.display(),
+        svg.display()
+    );
+    let v = json(&words(&line));
     assert_eq!(v["parameter"], "F");
     assert_eq!(v["model"], "duffing");
     let pts = points(&v);
@@ -127,21 +95,9 @@ fn sweep_param_force_on_a_linear_oscillator_is_proportional() {
 fn sweep_param_fractional_order_matches_the_closed_form() {
     // fractional-duffing defaults m = 1, c = 0.05, k = 1, h = 0.1, F = 0.5; k3 = 0:
     // |X| = F / |k - mΩ² + icΩ + h (iΩ)^p| as p goes from 0.05 to 1.95.
-    let v = json(&[
-        "sweep-param",
-        "fractional-duffing",
-        "--param",
-        "p",
-        "--from",
-        "0.05",
-        "--to",
-        "1.95",
-        "--omega",
-        "1.3",
-        "--set",
-        "k3=0",
-        "--json",
-    ]);
+    let v = json(&words(
+        "sweep-param fractional-duffing --param p --from 0.05 --to 1.95 --omega 1.3 --set k3=0 --json",
+    ));
     assert_eq!(v["parameter"], "p");
     let pts = points(&v);
     assert!(pts.len() >= 5);
@@ -168,23 +124,9 @@ fn sweep_param_force_of_a_hardening_duffing_passes_its_folds() {
     // are where dF/dA = 0: 3a²u² + 4adu + d² + e² = 0 in u = A², a = 3k3/4,
     // d = k - mΩ², e = cΩ.
     let (m, c, k, k3, w) = (1.0, 0.05, 1.0, 1.0, 2.0);
-    let v = json(&[
-        "sweep-param",
-        "duffing",
-        "--param",
-        "F",
-        "--from",
-        "0.1",
-        "--to",
-        "5",
-        "--omega",
-        "2",
-        "--harmonics",
-        "1",
-        "--set",
-        "c=0.05",
-        "--json",
-    ]);
+    let v = json(&words(
+        "sweep-param duffing --param F --from 0.1 --to 5 --omega 2 --harmonics 1 --set c=0.05 --json",
+    ));
     for p in points(&v) {
         let amp = p["outputs"]["x"]["amp1"].as_f64().unwrap();
         let force = duffing_force(amp, (m, c, k, k3), w);
@@ -216,20 +158,11 @@ fn sweep_param_force_of_a_hardening_duffing_passes_its_folds() {
     assert!(dirs.contains(&"up") && dirs.contains(&"down"), "{dirs:?}");
 }
 
-const HARDENING: [&str; 12] = [
-    "sweep",
-    "duffing",
-    "--from",
-    "0.5",
-    "--to",
-    "2.5",
-    "--harmonics",
-    "3",
-    "--set",
-    "c=0.05",
-    "--set",
-    "F=0.2",
-];
+/// A hardening Duffing sweep (c = 0.05, F = 0.2: two folds) with N harmonics and
+/// `extra` arguments.
+fn hardening(n: usize, extra: &str) -> String {
+    format!("sweep duffing --from 0.5 --to 2.5 --harmonics {n} --set c=0.05 --set F=0.2 {extra}")
+}
 
 fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
     let mut v = base.to_vec();
@@ -239,8 +172,8 @@ fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
 
 #[test]
 fn no_stability_keeps_the_points_and_drops_the_verdicts() {
-    let a = json(&with(&HARDENING, &["--json"]));
-    let b = json(&with(&HARDENING, &["--no-stability", "--json"]));
+    let a = json(&words(&hardening(3, "--json")));
+    let b = json(&words(&hardening(3, "--no-stability --json")));
     let (pa, pb) = (points(&a), points(&b));
     assert_eq!(pa.len(), pb.len());
     for (p, q) in pa.iter().zip(pb) {
@@ -294,7 +227,7 @@ fn amplitude_bound_ends_a_segment_where_asked() {
 
 #[test]
 fn converge_reports_an_estimate_that_two_plain_runs_confirm() {
-    let v = json(&with(&HARDENING, &["--converge=1e-4", "--json"]));
+    let v = json(&words(&hardening(3, "--converge=1e-4 --json")));
     let conv = &v["convergence"];
     assert_eq!(conv["tol"].as_f64(), Some(1e-4));
     assert_eq!(conv["converged"], true);
@@ -310,10 +243,7 @@ fn converge_reports_an_estimate_that_two_plain_runs_confirm() {
     // Independent runs at the last two N: the estimate is the largest relative change
     // of the peak and of the fold frequencies between them.
     let run = |n: u64| {
-        let n = n.to_string();
-        let mut args = HARDENING.to_vec();
-        args[7] = &n;
-        let v = json(&with(&args, &["--json"]));
+        let v = json(&words(&hardening(n as usize, "--json")));
         let peak = points(&v).iter().map(x_max).fold(0.0, f64::max);
         let folds: Vec<f64> =
             v["folds"].as_array().unwrap().iter().map(|x| f(x, "omega")).collect();
@@ -329,9 +259,9 @@ fn converge_reports_an_estimate_that_two_plain_runs_confirm() {
     }
     assert!((change - estimate).abs() <= 1e-3 * estimate + 1e-15, "{change} vs {estimate}");
     // Without --converge there is no convergence field (the contract's document).
-    assert!(json(&with(&HARDENING, &["--json"])).get("convergence").is_none());
+    assert!(json(&words(&hardening(3, "--json"))).get("convergence").is_none());
     // The human summary states the estimate.
-    let o = ihbm(&with(&HARDENING, &["--converge"]));
+    let o = ihbm(&words(&hardening(3, "--converge")));
     assert!(o.status.success());
     assert!(stdout(&o).contains("harmonic convergence"), "{}", stdout(&o));
 }
@@ -340,67 +270,64 @@ fn converge_reports_an_estimate_that_two_plain_runs_confirm() {
 fn bad_continuation_flags_name_the_flag_and_value() {
     let s =
         |extra: &[&'static str]| with(&["sweep", "duffing", "--from", "0.5", "--to", "2"], extra);
-    assert_rejected(&s(&["--max-step", "-1"]), &["--max-step", "-1", "> 0"]);
-    assert_rejected(&s(&["--max-step", "0"]), &["--max-step", "0"]);
-    assert_rejected(&s(&["--min-step", "nan"]), &["--min-step", "NaN"]);
-    assert_rejected(&s(&["--initial-step", "inf"]), &["--initial-step", "inf"]);
-    assert_rejected(&s(&["--tol", "0"]), &["--tol", "0"]);
-    assert_rejected(&s(&["--tol", "tiny"]), &["--tol", "tiny"]);
-    assert_rejected(
+    assert_usage(&s(&["--max-step", "-1"]), &["--max-step", "-1", "> 0"]);
+    assert_usage(&s(&["--max-step", "0"]), &["--max-step", "0"]);
+    assert_usage(&s(&["--min-step", "nan"]), &["--min-step", "NaN"]);
+    assert_usage(&s(&["--initial-step", "inf"]), &["--initial-step", "inf"]);
+    assert_usage(&s(&["--tol", "0"]), &["--tol", "0"]);
+    assert_usage(&s(&["--tol", "tiny"]), &["--tol", "tiny"]);
+    assert_usage(
         &s(&["--min-step", "0.5", "--max-step", "0.1"]),
         &["--min-step", "0.5", "--max-step", "0.1"],
     );
-    assert_rejected(
+    assert_usage(
         &s(&["--initial-step", "0.2", "--max-step", "0.1"]),
         &["--initial-step", "0.2", "at most --max-step"],
     );
-    assert_rejected(&s(&["--predictor", "euler"]), &["--predictor", "euler", "tangent", "secant"]);
+    assert_usage(&s(&["--predictor", "euler"]), &["--predictor", "euler", "tangent", "secant"]);
     for bad in ["rel:x", "abs:-1", "half", "max:3", "rel:0"] {
-        assert_rejected(
-            &s(&["--amplitude-bound", bad]),
-            &["--amplitude-bound", bad, "rel:", "none"],
-        );
+        assert_usage(&s(&["--amplitude-bound", bad]), &["--amplitude-bound", bad, "rel:", "none"]);
     }
-    assert_rejected(&s(&["--max-steps", "0"]), &["--max-steps", "0"]);
-    assert_rejected(&s(&["--max-steps", "-5"]), &["--max-steps", "-5"]);
-    assert_rejected(&s(&["--converge=0"]), &["--converge", "0"]);
-    assert_rejected(&s(&["--converge=-1e-3"]), &["--converge", "-0.001"]);
-    assert_rejected(&s(&["--converge=soon"]), &["--converge", "soon"]);
-    assert_rejected(&s(&["--no-stability=yes"]), &["--no-stability"]);
+    assert_usage(&s(&["--max-steps", "0"]), &["--max-steps", "0"]);
+    assert_usage(&s(&["--max-steps", "-5"]), &["--max-steps", "-5"]);
+    assert_usage(&s(&["--converge=0"]), &["--converge", "0"]);
+    assert_usage(&s(&["--converge=-1e-3"]), &["--converge", "-0.001"]);
+    assert_usage(&s(&["--converge=soon"]), &["--converge", "soon"]);
+    assert_usage(&s(&["--no-stability=yes"]), &["--no-stability"]);
     // The tolerance needs '=' (a bare --converge may be followed by other arguments).
-    assert_rejected(&s(&["--converge", "1e-4"]), &["1e-4", "--converge=TOL"]);
+    assert_usage(&s(&["--converge", "1e-4"]), &["1e-4", "--converge=TOL"]);
 }
 
 #[test]
 fn bad_sweep_param_inputs_fail_with_a_reason() {
     let base = ["sweep-param", "fractional-duffing", "--omega", "1"];
-    assert_rejected(
+    assert_usage(
         &with(&base, &["--param", "q", "--from", "0", "--to", "1"]),
         &["unknown parameter 'q'", "fractional-duffing", "k3"],
     );
-    assert_rejected(
+    assert_usage(
         &with(&base, &["--param", "p", "--from", "0.5", "--to", "2.5"]),
         &["fractional order p", "2.5", "[0, 2]"],
     );
-    assert_rejected(&with(&base, &["--param", "F", "--from", "2", "--to", "1"]), &["F", "2", "1"]);
-    assert_rejected(&with(&base, &["--param", "F", "--from", "1", "--to", "inf"]), &["inf"]);
-    assert_rejected(
+    assert_usage(&with(&base, &["--param", "F", "--from", "2", "--to", "1"]), &["F", "2", "1"]);
+    assert_usage(&with(&base, &["--param", "F", "--from", "1", "--to", "inf"]), &["inf"]);
+    assert_usage(
         &["sweep-param", "duffing", "--param", "F", "--from", "1", "--to", "2", "--omega", "0"],
         &["--omega", "0"],
     );
-    assert_rejected(
+    assert_usage(
         &["sweep-param", "duffing", "--param", "F", "--from", "1", "--to", "2"],
         &["--omega"],
     );
-    assert_rejected(
+    assert_usage(
         &["sweep-param", "duffing", "--from", "1", "--to", "2", "--omega", "1"],
         &["--param"],
     );
-    assert_rejected(
+    assert_usage(
         &["sweep-param", "nope", "--param", "F", "--from", "1", "--to", "2", "--omega", "1"],
         &["unknown model", "nope"],
     );
-    assert_rejected(
+    assert_usage(
         &with(&base, &["--param", "F", "--from", "1", "--to", "2", "--max-step", "-1"]),
         &["--max-step", "-1"],
     );
@@ -450,19 +377,16 @@ fn study_sweep_tables_take_the_same_settings_and_checks() {
         path
     };
     let bad = write("bad_tol.toml", "tol = -1.0");
-    assert_rejected(&["run", bad.to_str().unwrap()], &["bad_tol.toml", "sweep.tol = -1", "> 0"]);
+    assert_usage(&["run", bad.to_str().unwrap()], &["bad_tol.toml", "sweep.tol = -1", "> 0"]);
     let bad = write("bad_bound.toml", "amplitude_bound = \"rel:x\"");
-    assert_rejected(
-        &["run", bad.to_str().unwrap()],
-        &["bad_bound.toml", "amplitude_bound", "rel:x"],
-    );
+    assert_usage(&["run", bad.to_str().unwrap()], &["bad_bound.toml", "amplitude_bound", "rel:x"]);
     let bad = write("bad_steps.toml", "min_step = 0.5, max_step = 0.1");
-    assert_rejected(
+    assert_usage(
         &["run", bad.to_str().unwrap()],
         &["sweep.min_step = 0.5", "at most sweep.max_step (0.1)"],
     );
     let bad = write("bad_pred.toml", "predictor = \"euler\"");
-    assert_rejected(&["run", bad.to_str().unwrap()], &["bad_pred.toml", "euler"]);
+    assert_usage(&["run", bad.to_str().unwrap()], &["bad_pred.toml", "euler"]);
 
     // Good settings run; the curve JSON carries the convergence study.
     let good = write(

@@ -51,24 +51,9 @@ pub enum Command {
         /// End frequency, rad/s (> from).
         #[arg(long, value_name = "W1", allow_negative_numbers = true)]
         to: f64,
-        /// Number of harmonics N (>= 1).
-        #[arg(long, value_name = "N", default_value_t = 5)]
-        harmonics: usize,
-        /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
-        #[arg(long = "set", value_name = "P=V")]
-        set: Vec<String>,
-        /// Write the curve as CSV (one row per point).
-        #[arg(long, value_name = "FILE")]
-        csv: Option<PathBuf>,
-        /// Write the curve as JSON to FILE (`-`: standard output).
-        #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
-        json: Option<String>,
-        /// Draw the curve (every output, one panel each) as SVG.
-        #[arg(long, value_name = "FILE.svg")]
-        plot: Option<PathBuf>,
-        /// Continuation settings.
+        /// Harmonics, overrides, output files and continuation settings.
         #[command(flatten)]
-        cont: ContinuationArgs,
+        curve: CurveArgs,
     },
     /// Trace the response at a fixed forcing frequency while one model parameter moves
     /// (any parameter, a fractional order included): folds, stability, jumps.
@@ -88,24 +73,9 @@ pub enum Command {
         /// Forcing frequency Ω, rad/s (> 0), fixed along the curve.
         #[arg(long, value_name = "W", allow_negative_numbers = true)]
         omega: f64,
-        /// Number of harmonics N (>= 1).
-        #[arg(long, value_name = "N", default_value_t = 5)]
-        harmonics: usize,
-        /// Override a parameter, e.g. `--set k3=3e6` (repeatable; the varied one starts at V0).
-        #[arg(long = "set", value_name = "P=V")]
-        set: Vec<String>,
-        /// Write the curve as CSV (one row per point; the first column is the parameter).
-        #[arg(long, value_name = "FILE")]
-        csv: Option<PathBuf>,
-        /// Write the curve as JSON to FILE (`-`: standard output).
-        #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
-        json: Option<String>,
-        /// Draw the curve (every output, one panel each; x axis: the parameter) as SVG.
-        #[arg(long, value_name = "FILE.svg")]
-        plot: Option<PathBuf>,
-        /// Continuation settings.
+        /// Harmonics, overrides, output files and continuation settings.
         #[command(flatten)]
-        cont: ContinuationArgs,
+        curve: CurveArgs,
     },
     /// Integrate in time from rest (Caputo derivative from t = 0); steady statistics of
     /// the last 10 forcing periods.
@@ -140,6 +110,31 @@ pub enum Command {
         #[arg(long, value_name = "DIR", default_value = "out")]
         out: PathBuf,
     },
+}
+
+/// What `sweep` and `sweep-param` share: harmonics, overrides, output files and the
+/// continuation settings. The curve's first coordinate (CSV column, plot axis) is Ω
+/// for `sweep` and the parameter for `sweep-param`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CurveArgs {
+    /// Number of harmonics N (>= 1).
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub harmonics: usize,
+    /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
+    #[arg(long = "set", value_name = "P=V")]
+    pub set: Vec<String>,
+    /// Write the curve as CSV (one row per point).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write the curve as JSON to FILE (`-`: standard output).
+    #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
+    pub json: Option<String>,
+    /// Draw the curve (every output, one panel each) as SVG.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Continuation settings.
+    #[command(flatten)]
+    pub cont: ContinuationArgs,
 }
 
 /// The continuation settings of `sweep` and `sweep-param` (a study's `sweep` table

@@ -1,6 +1,6 @@
 //! What each subcommand does, given parsed arguments and the registered models.
 
-use super::args::Command;
+use super::args::{Command, CurveArgs};
 use super::engine::{SimSettings, SolveSettings};
 use super::progress;
 use super::registry::{AnyModel, Registry};
@@ -10,7 +10,7 @@ use crate::report::{self, Figure, FreqUnit, Panel, Series};
 use crate::results::Curve;
 use crate::study;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
@@ -61,45 +61,32 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, harmonics, set, csv, json, plot, cont } => {
-            let model = configured(reg, &name, &set)?;
-            let settings = cont.settings(harmonics);
+        Command::Sweep { name, from, to, curve: args } => {
+            let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
+            let settings = args.cont.settings(args.harmonics);
             let curve = model.sweep(from, to, &settings).map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
-            let files = CurveFiles { csv, json, plot };
-            write_curve(&curve, &name, &title, &files, out)
+            write_curve(&curve, &name, &title, &args, out)
         }
-        Command::SweepParam {
-            name,
-            param,
-            from,
-            to,
-            omega,
-            harmonics,
-            set,
-            csv,
-            json,
-            plot,
-            cont,
-        } => {
-            let model = configured(reg, &name, &set)?;
-            let settings = cont.settings(harmonics);
+        Command::SweepParam { name, param, from, to, omega, curve: args } => {
+            let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!(
                 "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
             ));
-            let curve =
-                model.sweep_param(&param, from, to, omega, &settings).map_err(Failure::from_error);
+            let settings = args.cont.settings(args.harmonics);
+            let curve = model
+                .sweep_param(&param, (from, to), omega, &settings)
+                .map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
             let title = format!(
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
-            let files = CurveFiles { csv, json, plot };
-            write_curve(&curve, &name, &title, &files, out)
+            write_curve(&curve, &name, &title, &args, out)
         }
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
             let model = configured(reg, &name, &set)?;
@@ -132,19 +119,12 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
     }
 }
 
-/// Where `sweep` and `sweep-param` write a curve.
-struct CurveFiles {
-    csv: Option<PathBuf>,
-    json: Option<String>,
-    plot: Option<PathBuf>,
-}
-
 /// Write a traced curve: CSV, SVG, and the JSON or a human summary.
 fn write_curve(
     curve: &Curve,
     name: &str,
     title: &str,
-    files: &CurveFiles,
+    files: &CurveArgs,
     out: &mut dyn Write,
 ) -> Result<(), Failure> {
     if let Some(path) = &files.csv {

@@ -32,13 +32,13 @@ pub trait AnyModel: Send + Sync {
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
     /// Trace a frequency sweep.
     fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve>;
-    /// Trace the response at fixed `omega` as parameter `param` goes `from` → `to`.
+    /// Trace the response at fixed frequency `w` (rad/s) as parameter `param` goes
+    /// over `range` (from, to).
     fn sweep_param(
         &self,
         param: &str,
-        from: f64,
-        to: f64,
-        omega: f64,
+        range: (f64, f64),
+        w: f64,
         s: &SweepSettings,
     ) -> Result<Curve>;
     /// Integrate in time.
@@ -109,13 +109,11 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     fn sweep_param(
         &self,
         param: &str,
-        from: f64,
-        to: f64,
-        omega: f64,
+        range: (f64, f64),
+        w: f64,
         s: &SweepSettings,
     ) -> Result<Curve> {
-        engine::sweep_param(&self.name, &self.model, param, (from, to), omega, s)
-            .map_err(|e| self.named(e))
+        engine::sweep_param(&self.name, &self.model, param, range, w, s).map_err(|e| self.named(e))
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)
