@@ -1,7 +1,7 @@
 //! What each subcommand does, given parsed arguments and the registered models.
 
 use super::args::{Command, CurveArgs};
-use super::engine::{SimSettings, SolveSettings};
+use super::engine::{ParamRange, SimSettings, SolveSettings};
 use super::progress;
 use super::registry::{AnyModel, Registry};
 use super::Failure;
@@ -77,9 +77,8 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
             ));
             let settings = args.cont.settings(args.harmonics);
-            let curve = model
-                .sweep_param(&param, (from, to), omega, &settings)
-                .map_err(Failure::from_error);
+            let range = ParamRange { param: &param, from, to, omega };
+            let curve = model.sweep_param(&range, &settings).map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
             let title = format!(

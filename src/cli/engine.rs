@@ -163,16 +163,28 @@ pub fn sweep<M: Model>(
     Ok(curve)
 }
 
-/// Trace the response at fixed frequency `omega` (rad/s) as parameter `param` goes
-/// from `from` to `to`; the curve's `parameter` names it.
+/// A parameter sweep at a fixed frequency: which parameter, over which range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamRange<'a> {
+    /// Parameter name (as declared by the model).
+    pub param: &'a str,
+    /// Start value.
+    pub from: f64,
+    /// End value (> from).
+    pub to: f64,
+    /// Forcing frequency, rad/s (> 0), fixed along the curve.
+    pub omega: f64,
+}
+
+/// Trace the response at fixed frequency as a parameter goes over its range; the
+/// curve's `parameter` names it.
 pub fn sweep_param<M: Model>(
     name: &str,
     model: &M,
-    param: &str,
-    (from, to): (f64, f64),
-    omega: f64,
+    r: &ParamRange,
     s: &SweepSettings,
 ) -> Result<Curve> {
+    let ParamRange { param, from, to, omega } = *r;
     check_omega("--omega", omega)?;
     check_harmonics(s.harmonics)?;
     model.param_index(param)?;

@@ -4,7 +4,7 @@
 //! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
 //! monomorphises solve, sweep and simulate for `M`.
 
-use super::engine::{self, SimSettings, SolveSettings, SweepSettings};
+use super::engine::{self, ParamRange, SimSettings, SolveSettings, SweepSettings};
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo};
 use crate::report::{SimRecord, SolveRecord};
@@ -32,15 +32,8 @@ pub trait AnyModel: Send + Sync {
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
     /// Trace a frequency sweep.
     fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve>;
-    /// Trace the response at fixed frequency `w` (rad/s) as parameter `param` goes
-    /// over `range` (from, to).
-    fn sweep_param(
-        &self,
-        param: &str,
-        range: (f64, f64),
-        w: f64,
-        s: &SweepSettings,
-    ) -> Result<Curve>;
+    /// Trace the response at a fixed frequency as one parameter moves.
+    fn sweep_param(&self, r: &ParamRange, s: &SweepSettings) -> Result<Curve>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
     /// A copy with the same parameter values.
@@ -106,14 +99,8 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         c.model = self.name.clone();
         Ok(c)
     }
-    fn sweep_param(
-        &self,
-        param: &str,
-        range: (f64, f64),
-        w: f64,
-        s: &SweepSettings,
-    ) -> Result<Curve> {
-        engine::sweep_param(&self.name, &self.model, param, range, w, s).map_err(|e| self.named(e))
+    fn sweep_param(&self, r: &ParamRange, s: &SweepSettings) -> Result<Curve> {
+        engine::sweep_param(&self.name, &self.model, r, s).map_err(|e| self.named(e))
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)
