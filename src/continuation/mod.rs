@@ -54,7 +54,7 @@ use crate::results::{
 use crate::stability::{Crossing, Hill, StabilityOptions};
 use tracer::{dot, Axis, Tracer};
 
-pub use jumps::find_jumps;
+pub use jumps::{find_jumps, find_landings, Landing};
 
 /// Predictor direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -739,6 +739,35 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         best
     }
 
+    /// Replace the polyline's landing amplitudes by the solution at the jump's
+    /// parameter, corrected from the interpolated coefficients (kept as they are if
+    /// the corrector fails there).
+    fn land_exactly(
+        &mut self,
+        jumps: &mut [crate::results::Jump],
+        landings: &[Landing],
+        nout: usize,
+    ) {
+        let n = self.tr.n;
+        let mut e_n = vec![0.0; n + 1];
+        e_n[n] = 1.0;
+        for l in landings {
+            let Some(first) = jumps.get(l.jump) else { continue };
+            let (ya, yb) = (&self.nodes[l.a].y, &self.nodes[l.b].y);
+            let mut y: Vec<f64> = ya.iter().zip(yb).map(|(p, q)| p + l.w * (q - p)).collect();
+            let target = first.omega / self.tr.sl;
+            y[n] = target;
+            if self.tr.correct(&mut y, &e_n, target).is_err() {
+                continue;
+            }
+            self.tr.set_point(&y);
+            let (_, _, _, outputs) = self.point_at(&y);
+            for (j, o) in jumps[l.jump..].iter_mut().take(nout).zip(&outputs) {
+                j.to = o.max_abs;
+            }
+        }
+    }
+
     /// Unscaled point data at `y`.
     fn point_at(&mut self, y: &[f64]) -> (f64, f64, Vec<f64>, Vec<PointOutput>) {
         let mut coeffs = vec![0.0; self.tr.n];
@@ -825,7 +854,8 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         self.stats.chord_steps = self.tr.chord_steps;
         let output_names: Vec<String> =
             model.outputs().iter().map(|o| o.name.to_string()).collect();
-        let jumps = find_jumps(&points, &folds, &output_names);
+        let (mut jumps, landings) = find_landings(&points, &folds, &output_names);
+        self.land_exactly(&mut jumps, &landings, output_names.len());
         Ok(Curve {
             model: model.name().to_string(),
             harmonics: self.opts.harmonics,
