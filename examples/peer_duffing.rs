@@ -75,7 +75,7 @@ fn json_line(tool: &str, args: &Args, samples: usize, curve: &Curve, times: (f64
     let ends: Vec<String> = curve.segments.iter().map(|s| format!("\"{}\"", s.ended)).collect();
     format!(
         "{{\"tool\":\"{tool}\",\"version\":\"{}\",\"harmonics\":{},\"samples\":{samples},\
-         \"from\":{},\"to\":{},\"points\":{},\"steps\":{},\"newton_iterations\":{},\
+         \"from\":{},\"to\":{},\"points\":{},\"steps\":{},\"newton_iterations\":{},\"chord_steps\":{},\
          \"seconds_per_curve\":{:.9e},\"best_seconds_per_curve\":{:.9e},\"repeats\":{},\"peak_max_abs\":{:.6},\
          \"peak_amp1\":{:.6},\"folds\":[{}],\"segments\":[{}]}}",
         env!("CARGO_PKG_VERSION"),
@@ -85,6 +85,7 @@ fn json_line(tool: &str, args: &Args, samples: usize, curve: &Curve, times: (f64
         curve.points.len(),
         curve.stats.steps,
         curve.stats.corrector_iterations,
+        curve.stats.chord_steps,
         times.0,
         times.1,
         args.repeats,

@@ -13,9 +13,7 @@
 //! it, so a block costs `O(N²)` instead of a dense `O(N² M)` sample sum.
 
 use crate::error::{Error, Result};
-use crate::fourier::{
-    apply_factor, apply_order, coeff_len, sample_count, spectral_factor, Fourier,
-};
+use crate::fourier::{apply_factor, coeff_len, sample_count, spectral_factor, Fourier};
 use crate::model::{Model, Order};
 use faer::prelude::ReborrowMut;
 use faer::MatMut;
@@ -67,8 +65,21 @@ pub struct Balance<'m, M: Model> {
     /// which signals a directional pass seeds (reused, so passes do not allocate)
     seeded: Vec<bool>,
     ghat: Vec<Complex64>,
+    /// `ĝ_m` for `m = -2N..=2N` (scratch of `add_block`)
+    ext: Vec<Complex64>,
     /// spectral factors `(ikΩ)^q`, `s * (N + 1) + k`
     lam: Vec<Complex64>,
+    /// their Ω-free part `(ik)^q`, same layout (set with the orders)
+    unit: Vec<Complex64>,
+    /// signals whose gradient is constant over a period ([`Model::affine_signals`])
+    affine: Vec<bool>,
+    explicit_omega: bool,
+    /// the coefficients and Ω the signal samples (and `lam`) were filled for
+    cache_a: Vec<f64>,
+    cache_omega: f64,
+    sig_valid: bool,
+    /// `grad` holds the gradients at the cached point (set by `jacobian`)
+    grad_valid: bool,
 }
 
 impl<M: Model> std::fmt::Debug for Balance<'_, M> {
@@ -145,9 +156,18 @@ impl<'m, M: Model> Balance<'m, M> {
             d_out: vec![Dual64::from_re(0.0); ndof],
             seeded: vec![false; nsig],
             ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
+            ext: vec![Complex64::new(0.0, 0.0); 4 * harmonics + 1],
             lam: vec![Complex64::new(0.0, 0.0); nsig * (harmonics + 1)],
+            unit: vec![Complex64::new(0.0, 0.0); nsig * (harmonics + 1)],
+            affine: vec![false; nsig],
+            explicit_omega: model.explicit_omega(),
+            cache_a: vec![0.0; ndof * l],
+            cache_omega: f64::NAN,
+            sig_valid: false,
+            grad_valid: false,
         };
         hb.update_orders();
+        hb.check_structure()?;
         Ok(hb)
     }
 
@@ -155,6 +175,88 @@ impl<'m, M: Model> Balance<'m, M> {
         for (o, s) in self.orders.iter_mut().zip(self.model.signals()) {
             *o = s.order.value(&self.params);
         }
+        // (ikΩ)^q = (ik)^q Ω^q: the trigonometry and k^q once per order, not per call
+        let n1 = self.n + 1;
+        for (s, &q) in self.orders.iter().enumerate() {
+            for k in 0..n1 {
+                self.unit[s * n1 + k] = spectral_factor(k, 1.0, q);
+            }
+        }
+        self.sig_valid = false;
+        self.grad_valid = false;
+    }
+
+    /// Adopt the model's structure claims ([`Model::affine_signals`],
+    /// [`Model::explicit_omega`]) after testing them at a few pseudo-random states: a
+    /// wrong claim would silently give wrong Jacobians, so it is an error here.
+    fn check_structure(&mut self) -> Result<()> {
+        let model = self.model;
+        let claimed = model.affine_signals();
+        if claimed.is_empty() && self.explicit_omega {
+            return Ok(());
+        }
+        if !claimed.is_empty() && claimed.len() != self.nsig {
+            return Err(Error::Other(format!(
+                "model '{}': affine_signals() has {} entries for {} signals",
+                model.name(),
+                claimed.len(),
+                self.nsig
+            )));
+        }
+        let (nsig, ndof) = (self.nsig, self.ndof);
+        let params: Vec<Dual64> = self.params.iter().map(|&p| Dual64::from_re(p)).collect();
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rand = move || {
+            // xorshift: reproducible states in [-1, 1]
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        };
+        let mut sig = vec![Dual64::from_re(0.0); nsig];
+        let mut out = vec![Dual64::from_re(0.0); ndof];
+        let mut first: Vec<f64> = vec![f64::NAN; ndof * nsig];
+        for probe in 0..3 {
+            let values: Vec<f64> = (0..nsig).map(|_| 2.0 * rand()).collect();
+            let phase = std::f64::consts::PI * (1.0 + rand());
+            let omega = 1.7;
+            if !self.explicit_omega {
+                for (d, &v) in sig.iter_mut().zip(&values) {
+                    *d = Dual64::from_re(v);
+                }
+                model.residual(&params, Dual64::new(omega, 1.0), phase, &sig, &mut out);
+                if let Some(e) = (0..ndof).find(|&e| out[e].eps != 0.0) {
+                    return Err(Error::Other(format!(
+                        "model '{}' says explicit_omega() == false, but equation {e} changes                          with Ω at fixed signals; return true (the default)",
+                        model.name()
+                    )));
+                }
+            }
+            for s0 in (0..nsig).filter(|&s| claimed.get(s) == Some(&true)) {
+                for (s, (d, &v)) in sig.iter_mut().zip(&values).enumerate() {
+                    *d = Dual64::new(v, if s == s0 { 1.0 } else { 0.0 });
+                }
+                model.residual(&params, Dual64::from_re(omega), phase, &sig, &mut out);
+                for e in 0..ndof {
+                    let (g, g0) = (out[e].eps, &mut first[e * nsig + s0]);
+                    if probe == 0 {
+                        *g0 = g;
+                    } else if (g - *g0).abs() > 1e-12 * g.abs().max(g0.abs()) {
+                        return Err(Error::Other(format!(
+                            "model '{}' says signal {s0} is affine (affine_signals), but                              ∂r{e}/∂s{s0} is {} at one state and {g} at another; mark it                              false or return &[] (the default)",
+                            model.name(),
+                            *g0
+                        )));
+                    }
+                }
+            }
+        }
+        // Gradients may depend on parameters and Ω (fixed across probes above): the
+        // probe tests the structure; `jacobian` evaluates them at the current point.
+        for (a, &c) in self.affine.iter_mut().zip(claimed) {
+            *a = c;
+        }
+        Ok(())
     }
 
     /// Length of the unknown vector: `ndof · (2N + 1)`.
@@ -207,8 +309,16 @@ impl<'m, M: Model> Balance<'m, M> {
         self.fourier.spectrum(g, out);
     }
 
-    /// Signal samples from the coefficients, and the spectral factors for Ω.
+    /// Signal samples from the coefficients, and the spectral factors for Ω (kept
+    /// when called again at the same point, as `d_omega` after `jacobian` is).
     fn fill_signals(&mut self, a: &[f64], omega: f64) {
+        if self.sig_valid && omega == self.cache_omega && a == &self.cache_a[..] {
+            return;
+        }
+        self.cache_a.copy_from_slice(a);
+        self.cache_omega = omega;
+        self.sig_valid = true;
+        self.grad_valid = false;
         let l = coeff_len(self.n);
         for (s, sig) in self.model.signals().iter().enumerate() {
             self.comb.fill(0.0);
@@ -218,11 +328,14 @@ impl<'m, M: Model> Balance<'m, M> {
                 }
             }
             let q = self.orders[s];
-            apply_order(&self.comb, q, omega, &mut self.op);
-            self.fourier.synthesize(&self.op, &mut self.sig[s * self.m..(s + 1) * self.m]);
-            for k in 0..=self.n {
-                self.lam[s * (self.n + 1) + k] = spectral_factor(k, omega, q);
+            let wq = if q.fract() == 0.0 { omega.powi(q as i32) } else { omega.powf(q) };
+            let n1 = self.n + 1;
+            let lam = &mut self.lam[s * n1..(s + 1) * n1];
+            for (l, &u) in lam.iter_mut().zip(&self.unit[s * n1..(s + 1) * n1]) {
+                *l = u * wq;
             }
+            apply_factor(&self.comb, &mut self.op, |k| lam[k]);
+            self.fourier.synthesize(&self.op, &mut self.sig[s * self.m..(s + 1) * self.m]);
         }
     }
 
@@ -263,33 +376,40 @@ impl<'m, M: Model> Balance<'m, M> {
             *d = Dual64::from_re(p);
         }
         let (m, nsig) = (self.m, self.nsig);
-        if nsig == 0 {
-            self.residual(a, omega, r);
-        }
+        // Affine signals: the gradient at one sample holds for all.
         for s0 in 0..nsig {
+            if !self.affine[s0] {
+                continue;
+            }
+            self.seed_sample(0, s0, omega);
+            for e in 0..self.ndof {
+                let g = self.d_out[e].eps;
+                self.grad[(e * nsig + s0) * m..][..m].fill(g);
+            }
+        }
+        // The others: one dual pass over the samples each; the first also gives r.
+        let mut have_r = false;
+        for s0 in 0..nsig {
+            if self.affine[s0] {
+                continue;
+            }
             for j in 0..m {
-                for s in 0..nsig {
-                    self.d_sig[s] =
-                        Dual64::new(self.sig[s * m + j], if s == s0 { 1.0 } else { 0.0 });
-                }
-                self.model.residual(
-                    &self.d_params,
-                    Dual64::from_re(omega),
-                    self.phases[j],
-                    &self.d_sig,
-                    &mut self.d_out,
-                );
+                self.seed_sample(j, s0, omega);
                 for e in 0..self.ndof {
                     self.grad[(e * nsig + s0) * m + j] = self.d_out[e].eps;
-                    if s0 == 0 {
+                    if !have_r {
                         self.res[e * m + j] = self.d_out[e].re;
                     }
                 }
             }
+            have_r = true;
         }
-        if nsig > 0 {
+        if have_r {
             self.project(r);
+        } else {
+            self.residual(a, omega, r);
         }
+        self.grad_valid = true;
         jac.fill(0.0);
         let signals = self.model.signals();
         for e in 0..self.ndof {
@@ -308,10 +428,25 @@ impl<'m, M: Model> Balance<'m, M> {
                 }
                 self.fourier.spectrum(g, &mut self.ghat);
                 for &(d, c) in sig.terms {
-                    add_block(jac.rb_mut(), self.n, e, d, c, &self.ghat, lam);
+                    add_block(jac.rb_mut(), self.n, e, d, c, &self.ghat, &mut self.ext, lam);
                 }
             }
         }
+    }
+
+    /// The model at sample `j` with signal `s0` seeded (dual parts 1), into `d_out`.
+    fn seed_sample(&mut self, j: usize, s0: usize, omega: f64) {
+        let m = self.m;
+        for s in 0..self.nsig {
+            self.d_sig[s] = Dual64::new(self.sig[s * m + j], if s == s0 { 1.0 } else { 0.0 });
+        }
+        self.model.residual(
+            &self.d_params,
+            Dual64::from_re(omega),
+            self.phases[j],
+            &self.d_sig,
+            &mut self.d_out,
+        );
     }
 
     /// One directional-derivative pass: signals marked in `self.seeded` carry `dsig`
@@ -343,9 +478,32 @@ impl<'m, M: Model> Balance<'m, M> {
 
     /// `∂R/∂Ω` at fixed coefficients. Every spectral factor `(ikΩ)^q` has
     /// derivative `(q/Ω)(ikΩ)^q`, so each signal moves by `(q/Ω)·s(θ)`.
+    ///
+    /// Right after [`Balance::jacobian`] at the same point, for a model without
+    /// explicit Ω ([`Model::explicit_omega`]), this reuses its gradients:
+    /// `∂r/∂Ω = Σ_s (∂r/∂s)(q_s/Ω) s(θ)`, with no further model evaluations.
     pub fn d_omega(&mut self, a: &[f64], omega: f64, out: &mut [f64]) {
         self.fill_signals(a, omega);
         let m = self.m;
+        if self.grad_valid && !self.explicit_omega {
+            let nsig = self.nsig;
+            self.res.fill(0.0);
+            for e in 0..self.ndof {
+                for s in 0..nsig {
+                    let f = self.orders[s] / omega;
+                    if f == 0.0 {
+                        continue;
+                    }
+                    let g = &self.grad[(e * nsig + s) * m..][..m];
+                    let sig = &self.sig[s * m..][..m];
+                    for ((r, &g), &x) in self.res[e * m..][..m].iter_mut().zip(g).zip(sig) {
+                        *r += g * f * x;
+                    }
+                }
+            }
+            self.project(out);
+            return;
+        }
         for s in 0..self.nsig {
             let f = self.orders[s] / omega;
             for j in 0..m {
@@ -390,16 +548,6 @@ impl<'m, M: Model> Balance<'m, M> {
     }
 }
 
-/// `g` times the basis function, as a complex coefficient at harmonic `m` (|m| <= 2N).
-#[inline]
-fn g_at(ghat: &[Complex64], m: isize) -> Complex64 {
-    if m >= 0 {
-        ghat[m as usize]
-    } else {
-        ghat[(-m) as usize].conj()
-    }
-}
-
 /// Add `c · D^q` into the `(e, d)` block (the case of a constant `g`, folded into `c`):
 /// `D^q` maps `(cos kθ, sin kθ)` by the 2×2 rotation-scaling of `λ_k = (ikΩ)^q`.
 fn add_diagonal_block(
@@ -425,7 +573,10 @@ fn add_diagonal_block(
 /// Add `c · P[g] · D^q` into the `(e, d)` block of the Jacobian: column `cos jθ` (or
 /// `sin jθ`) is the coefficient vector of `g · D^q cos jθ` (or `sin`). With
 /// `D^q cos jθ = Re(λ_j e^{ijθ})` the product has complex coefficients
-/// `ŵ_k = ĝ_{k-j} û_j + ĝ_{k+j} û_{-j}`.
+/// `ŵ_k = ĝ_{k-j} û_j + ĝ_{k+j} û_{-j}`. `ghat` holds `ĝ_m` for `m = 0..=2N`;
+/// `ext` (scratch, `4N + 1`) receives `ĝ_m` for `m = -2N..=2N` (`ĝ_{-m} = conj ĝ_m`,
+/// `g` being real), so the inner loop reads two contiguous runs.
+#[allow(clippy::too_many_arguments)]
 fn add_block(
     mut jac: MatMut<'_, f64>,
     n: usize,
@@ -433,32 +584,35 @@ fn add_block(
     d: usize,
     c: f64,
     ghat: &[Complex64],
+    ext: &mut [Complex64],
     lam: &[Complex64],
 ) {
     let l = coeff_len(n);
     let (row0, col0) = (e * l, d * l);
-    let half = Complex64::new(0.5, 0.0);
+    let mid = 2 * n;
+    for m in 0..=mid {
+        ext[mid + m] = ghat[m];
+        ext[mid - m] = ghat[m].conj();
+    }
+    let (c2, zero) = (2.0 * c, Complex64::new(0.0, 0.0));
     let mut column = |col: usize, j: usize, up: Complex64, um: Complex64| {
-        for k in 0..=n {
-            let (ki, ji) = (k as isize, j as isize);
-            let w = if j == 0 {
-                g_at(ghat, ki) * up
-            } else {
-                g_at(ghat, ki - ji) * up + g_at(ghat, ki + ji) * um
-            };
-            if k == 0 {
-                jac[(row0, col)] += c * w.re;
-            } else {
-                jac[(row0 + k, col)] += c * 2.0 * w.re;
-                jac[(row0 + n + k, col)] -= c * 2.0 * w.im;
-            }
+        let mut colv = jac.rb_mut().col_mut(col).subrows_mut(row0, l);
+        // k = 0: ĝ_{-j} û_j + ĝ_{j} û_{-j}
+        let w0 = ext[mid - j] * up + if j == 0 { zero } else { ext[mid + j] * um };
+        colv[0] += c * w0.re;
+        let lo = &ext[mid + 1 - j..][..n];
+        let hi = &ext[mid + 1 + j..][..n];
+        for (k, (&gl, &gh)) in lo.iter().zip(hi).enumerate() {
+            let w = if j == 0 { gl * up } else { gl * up + gh * um };
+            colv[1 + k] += c2 * w.re;
+            colv[1 + n + k] -= c2 * w.im;
         }
     };
     if lam[0].re != 0.0 {
-        column(col0, 0, lam[0], Complex64::new(0.0, 0.0));
+        column(col0, 0, lam[0], zero);
     }
     for j in 1..=n {
-        let up = lam[j] * half;
+        let up = lam[j] * 0.5;
         column(col0 + j, j, up, up.conj());
         // sin jθ = (e^{ijθ} - e^{-ijθ}) / 2i
         let up = lam[j] * Complex64::new(0.0, -0.5);

@@ -147,6 +147,26 @@ pub trait Model: Send + Sync {
         &[]
     }
 
+    /// Structure the solvers may exploit: `affine[s]` is `true` when every equation is
+    /// affine in signal `s` with a coefficient that depends on parameters and Ω only
+    /// (not on the other signals, nor on time), so `∂r/∂s` is constant over a period
+    /// and is evaluated at one sample instead of all of them. Empty (the default)
+    /// means "unknown": every signal is treated as nonlinear. `oscillator!` derives it
+    /// from the equations; [`Balance::new`](crate::balance::Balance::new) checks a
+    /// hand-written claim at random states and rejects a wrong one.
+    fn affine_signals(&self) -> &'static [bool] {
+        &[]
+    }
+
+    /// Whether the residual depends on Ω other than through the signals (e.g. a
+    /// base excitation `m Ω² F cos Ωt`). `false` lets `∂R/∂Ω` come from the signal
+    /// gradients without another pass over the samples. The default `true` is
+    /// always correct; a wrong `false` is caught by
+    /// [`Balance::new`](crate::balance::Balance::new).
+    fn explicit_omega(&self) -> bool {
+        true
+    }
+
     /// Evaluate all equations at one time sample.
     ///
     /// - `params`: parameter values, in `params_info` order (dual numbers so that

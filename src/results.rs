@@ -129,8 +129,11 @@ pub struct CurveStats {
     pub steps: usize,
     /// Rejected (halved) steps.
     pub rejected_steps: usize,
-    /// Corrector (Newton) iterations, all steps together.
+    /// Corrector (Newton) iterations, all steps together: each one a Jacobian and an
+    /// LU factorisation.
     pub corrector_iterations: usize,
+    /// Chord updates between them (a residual solved with the LU at hand).
+    pub chord_steps: usize,
     /// Folds found.
     pub folds: usize,
 }

@@ -1,28 +1,11 @@
 //! End-to-end tests of the `ihbm` binary: every command on good input, every bad-input
 //! class, and the JSON documents field for field (CONTRACT section 2).
 
+mod cli_common;
+
+use cli_common::{assert_rejected, ihbm, stderr, stdout, tmp};
 use num_complex::Complex64;
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn ihbm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ihbm")).args(args).output().expect("the ihbm binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ihbm-cli-tests-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 /// Keys of a JSON object, in order.
 fn keys(v: &Value) -> Vec<&str> {
@@ -40,17 +23,6 @@ fn linear_qc(omega: f64) -> (f64, f64) {
     let g = k1 + iw * c + h * iw.powf(p);
     let delta = m1 * m2 * omega.powi(4) - (kt * m1 + (m1 + m2) * g) * omega * omega + kt * g;
     ((kt * g / delta).norm(), (kt * m1 * omega * omega / delta).norm())
-}
-
-/// A bad input: non-zero exit, one line on stderr that contains every `needle`.
-fn assert_rejected(args: &[&str], needles: &[&str]) {
-    let o = ihbm(args);
-    assert!(!o.status.success(), "{args:?} succeeded: {}", stdout(&o));
-    let err = stderr(&o);
-    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
-    for n in needles {
-        assert!(err.contains(n), "{args:?}: stderr does not name '{n}': {err}");
-    }
 }
 
 #[test]
@@ -81,6 +53,7 @@ fn help_on_every_command() {
         vec!["models", "--help"],
         vec!["solve", "--help"],
         vec!["sweep", "--help"],
+        vec!["sweep-param", "--help"],
         vec!["simulate", "--help"],
         vec!["run", "--help"],
     ] {

@@ -60,3 +60,51 @@ fn empty_builder_has_no_models() {
     assert_eq!(code, 0);
     assert_eq!(String::from_utf8(out).unwrap(), "no models registered\n");
 }
+
+#[test]
+fn user_models_get_sweep_param_too() {
+    // BaseIsolator defaults m = 1, c = 0.05, h = 0.2, k = 4, k3 = 0, F = 1: linear, so
+    // |X| = F / |k - mΩ² + icΩ + h (iΩ)^p| as the fractional order p moves.
+    let (code, out, err) = run(&[
+        "sweep-param",
+        "base-isolator",
+        "--param",
+        "p",
+        "--from",
+        "0.2",
+        "--to",
+        "1.8",
+        "--omega",
+        "3",
+        "--max-step",
+        "0.05",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((v["model"].as_str(), v["parameter"].as_str()), (Some("base-isolator"), Some("p")));
+    let points = v["points"].as_array().unwrap();
+    assert!(points.len() > 5);
+    let iw = Complex64::new(0.0, 3.0);
+    for pt in points {
+        let p = pt["param"].as_f64().unwrap();
+        let x = (1.0 / (4.0 - 9.0 + 0.05 * iw + 0.2 * iw.powf(p))).norm();
+        let got = pt["outputs"]["x"]["max_abs"].as_f64().unwrap();
+        assert!((got - x).abs() < 1e-8 * x, "p = {p}: {got} vs {x}");
+    }
+    // Errors name the registered model.
+    let (code, _, err) = run(&[
+        "sweep-param",
+        "base-isolator",
+        "--param",
+        "zz",
+        "--from",
+        "0",
+        "--to",
+        "1",
+        "--omega",
+        "1",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown parameter 'zz'") && err.contains("'base-isolator'"), "{err}");
+}

@@ -147,11 +147,11 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
     let roots_up = eq.amplitudes(up.omega);
     let roots_down = eq.amplitudes(down.omega);
     assert!(up.from > up.to && down.from < down.to);
-    // Landing amplitudes: the other root of the equation (linear interpolation on the
-    // curve, so to the accuracy of the polyline).
-    assert!((up.to - roots_up[0]).abs() < 2e-2 * roots_up[0], "{up:?} vs {roots_up:?}");
+    // Landing amplitudes: the other root of the equation (solved there, not read off
+    // the polyline).
+    assert!((up.to - roots_up[0]).abs() < 1e-9 * roots_up[0], "{up:?} vs {roots_up:?}");
     assert!(
-        (down.to - roots_down.last().unwrap()).abs() < 2e-2 * down.to,
+        (down.to - roots_down.last().unwrap()).abs() < 1e-9 * down.to,
         "{down:?} vs {roots_down:?}"
     );
 }

@@ -8,7 +8,7 @@
 use crate::parse::{literal_value, ModelDef};
 use proc_macro2::{Span, TokenStream};
 use quote::ToTokens;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use syn::{BinOp, Expr, Lit, UnOp};
 
 /// Names the DSL keeps for itself.
@@ -994,6 +994,84 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
         Analysis { signals: cx.signals, aliases: cx.aliases, equations, outputs, degree, max_k };
     compact(&mut a);
     Ok(a)
+}
+
+/// Which signals a subtree contains, which of them it is not affine in (with a
+/// coefficient free of signals and time), and whether it varies in time or uses Ω.
+#[derive(Debug, Clone, Default)]
+struct Shape {
+    present: BTreeSet<usize>,
+    nonaffine: BTreeSet<usize>,
+    timed: bool,
+    omega: bool,
+}
+
+impl Shape {
+    fn union(mut self, o: &Shape) -> Shape {
+        self.present.extend(&o.present);
+        self.nonaffine.extend(&o.nonaffine);
+        self.timed |= o.timed;
+        self.omega |= o.omega;
+        self
+    }
+}
+
+/// The shape of `n`, conservatively: a signal multiplied by anything that holds a
+/// signal or varies in time counts as non-affine even if terms cancel (that only costs
+/// speed; the converse would give wrong Jacobians).
+fn shape(n: &Node, aliases: &[Shape]) -> Shape {
+    match n {
+        Node::Lit(_) | Node::Param(_) => Shape::default(),
+        Node::Omega => Shape { omega: true, ..Shape::default() },
+        Node::Forcing(..) => Shape { timed: true, ..Shape::default() },
+        Node::Signal(s) => Shape { present: BTreeSet::from([*s]), ..Shape::default() },
+        Node::Alias(i) => aliases[*i].clone(),
+        Node::Neg(a) => shape(a, aliases),
+        Node::Add(a, b) | Node::Sub(a, b) => shape(a, aliases).union(&shape(b, aliases)),
+        Node::Mul(a, b) | Node::Div(a, b) => {
+            let (sa, sb) = (shape(a, aliases), shape(b, aliases));
+            let mut out = sa.clone().union(&sb);
+            for (x, y) in [(&sa, &sb), (&sb, &sa)] {
+                if !y.present.is_empty() || y.timed {
+                    out.nonaffine.extend(&x.present);
+                }
+            }
+            out
+        }
+        Node::Powi(a, k) => match *k {
+            0 => Shape::default(),
+            1 => shape(a, aliases),
+            _ => {
+                let mut s = shape(a, aliases);
+                let p = s.present.clone();
+                s.nonaffine.extend(p);
+                s
+            }
+        },
+    }
+}
+
+impl Analysis {
+    fn shapes(&self) -> Shape {
+        let mut aliases: Vec<Shape> = Vec::with_capacity(self.aliases.len());
+        for (n, _, _) in &self.aliases {
+            let s = shape(n, &aliases);
+            aliases.push(s);
+        }
+        self.equations.iter().fold(Shape::default(), |acc, e| acc.union(&shape(e, &aliases)))
+    }
+
+    /// Per signal: every equation is affine in it with a signal- and time-free
+    /// coefficient (its gradient is constant over a period).
+    pub fn affine_signals(&self) -> Vec<bool> {
+        let s = self.shapes();
+        (0..self.signals.len()).map(|i| !s.nonaffine.contains(&i)).collect()
+    }
+
+    /// Whether some equation uses `omega` other than inside `cos/sin(k * omega * t)`.
+    pub fn explicit_omega(&self) -> bool {
+        self.shapes().omega
+    }
 }
 
 #[cfg(test)]

@@ -223,6 +223,8 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
     let degree = a.degree as usize;
     let max_k = a.max_k.max(1) as usize;
     let description = &def.doc;
+    let affine = a.affine_signals();
+    let explicit_omega = a.explicit_omega();
 
     // Residual body.
     let mut uses = Uses::default();
@@ -341,6 +343,12 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
             }
             fn equations(&self) -> &'static [&'static str] {
                 &[#(#eq_text),*]
+            }
+            fn affine_signals(&self) -> &'static [bool] {
+                &[#(#affine),*]
+            }
+            fn explicit_omega(&self) -> bool {
+                #explicit_omega
             }
             #[inline]
             #[allow(unused_variables, unused_parens, clippy::all)]

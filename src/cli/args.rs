@@ -1,6 +1,7 @@
 //! The command line of CONTRACT section 2, as clap derive types.
 
 use super::engine::SchemeName;
+use super::settings::{Bound, PredictorName, SweepSettings};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -40,6 +41,7 @@ pub enum Command {
         json: Option<String>,
     },
     /// Trace the amplitude–frequency curve (continuation through folds, stability, jumps).
+    #[command(after_help = SWEEP_AFTER_HELP)]
     Sweep {
         /// Model name (see `ihbm models`).
         name: String,
@@ -49,21 +51,31 @@ pub enum Command {
         /// End frequency, rad/s (> from).
         #[arg(long, value_name = "W1", allow_negative_numbers = true)]
         to: f64,
-        /// Number of harmonics N (>= 1).
-        #[arg(long, value_name = "N", default_value_t = 5)]
-        harmonics: usize,
-        /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
-        #[arg(long = "set", value_name = "P=V")]
-        set: Vec<String>,
-        /// Write the curve as CSV (one row per point).
-        #[arg(long, value_name = "FILE")]
-        csv: Option<PathBuf>,
-        /// Write the curve as JSON to FILE (`-`: standard output).
-        #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
-        json: Option<String>,
-        /// Draw the curve (every output, one panel each) as SVG.
-        #[arg(long, value_name = "FILE.svg")]
-        plot: Option<PathBuf>,
+        /// Harmonics, overrides, output files and continuation settings.
+        #[command(flatten)]
+        curve: CurveArgs,
+    },
+    /// Trace the response at a fixed forcing frequency while one model parameter moves
+    /// (any parameter, a fractional order included): folds, stability, jumps.
+    #[command(after_help = SWEEP_PARAM_AFTER_HELP)]
+    SweepParam {
+        /// Model name (see `ihbm models`).
+        name: String,
+        /// The parameter to vary (see `ihbm models NAME`).
+        #[arg(long, value_name = "P")]
+        param: String,
+        /// Start value of the parameter.
+        #[arg(long, value_name = "V0", allow_negative_numbers = true)]
+        from: f64,
+        /// End value of the parameter (> from).
+        #[arg(long, value_name = "V1", allow_negative_numbers = true)]
+        to: f64,
+        /// Forcing frequency Ω, rad/s (> 0), fixed along the curve.
+        #[arg(long, value_name = "W", allow_negative_numbers = true)]
+        omega: f64,
+        /// Harmonics, overrides, output files and continuation settings.
+        #[command(flatten)]
+        curve: CurveArgs,
     },
     /// Integrate in time from rest (Caputo derivative from t = 0); steady statistics of
     /// the last 10 forcing periods.
@@ -99,3 +111,112 @@ pub enum Command {
         out: PathBuf,
     },
 }
+
+/// What `sweep` and `sweep-param` share: harmonics, overrides, output files and the
+/// continuation settings. The curve's first coordinate (CSV column, plot axis) is Ω
+/// for `sweep` and the parameter for `sweep-param`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CurveArgs {
+    /// Number of harmonics N (>= 1).
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub harmonics: usize,
+    /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
+    #[arg(long = "set", value_name = "P=V")]
+    pub set: Vec<String>,
+    /// Write the curve as CSV (one row per point).
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write the curve as JSON to FILE (`-`: standard output).
+    #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
+    pub json: Option<String>,
+    /// Draw the curve (every output, one panel each) as SVG.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Continuation settings.
+    #[command(flatten)]
+    pub cont: ContinuationArgs,
+}
+
+/// The continuation settings of `sweep` and `sweep-param` (a study's `sweep` table
+/// takes the same settings, with `_` for `-`).
+#[derive(Debug, Clone, Default, clap::Args)]
+#[command(next_help_heading = "Continuation")]
+pub struct ContinuationArgs {
+    /// Largest arc-length step, in scaled units (parameter range and linearised
+    /// response both have length 1) [default: 0.1].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub max_step: Option<f64>,
+    /// Smallest step: a segment whose corrector fails at this step ends "stalled"
+    /// [default: 1e-6].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub min_step: Option<f64>,
+    /// First step [default: 0.01, or within the given min/max steps].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub initial_step: Option<f64>,
+    /// Corrector (Newton) tolerance on the scaled step, max-norm [default: 1e-10].
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    pub tol: Option<f64>,
+    /// Predictor direction [default: tangent].
+    #[arg(long, value_enum, value_name = "KIND")]
+    pub predictor: Option<PredictorName>,
+    /// When a branch counts as running away and its segment ends: `rel:F` (F times the
+    /// largest Fourier coefficient of the linearised response), `abs:A` (any output's
+    /// max_abs above A, model units; a plain number means this) or `none` [default: rel:1e3].
+    #[arg(long, value_name = "BOUND", value_parser = parse_bound)]
+    pub amplitude_bound: Option<Bound>,
+    /// Cap on accepted continuation steps [default: 20000].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub max_steps: Option<usize>,
+    /// Skip Hill stability (faster): every point is reported stable and jumps may land
+    /// on unstable branches.
+    #[arg(long)]
+    pub no_stability: bool,
+    /// Harmonic convergence: rerun with N, N+2, ... (up to 25, or N+4) until peaks and
+    /// folds change by less than TOL relative [default TOL: 1e-3]; the summary and the
+    /// JSON (`convergence`) report every level and the error estimate.
+    #[arg(long, value_name = "TOL", num_args = 0..=1, require_equals = true)]
+    pub converge: Option<Option<f64>>,
+}
+
+impl ContinuationArgs {
+    /// The settings these flags give, for `harmonics` harmonics.
+    pub fn settings(&self, harmonics: usize) -> SweepSettings {
+        SweepSettings {
+            harmonics,
+            initial_step: self.initial_step,
+            min_step: self.min_step,
+            max_step: self.max_step,
+            tol: self.tol,
+            predictor: self.predictor,
+            amplitude_bound: self.amplitude_bound,
+            max_steps: self.max_steps,
+            stability: self.no_stability.then_some(false),
+            converge: self
+                .converge
+                .map(|t| t.unwrap_or(crate::continuation::ConvergenceOptions::default().tol)),
+        }
+    }
+}
+
+fn parse_bound(s: &str) -> Result<Bound, String> {
+    s.parse()
+}
+
+const SWEEP_AFTER_HELP: &str = "\
+Examples:
+  ihbm sweep duffing --from 0.5 --to 3 --json d.json --plot d.svg
+  ihbm sweep duffing --from 0.5 --to 3 --max-step 0.02 --amplitude-bound abs:5 --no-stability
+  ihbm sweep quarter-car --from 1 --to 80 --converge=1e-4 --json -
+
+JSON: {model, harmonics, points, folds, jumps, segments, parameter, stats,
+bifurcations, convergence (only with --converge)}. Frequencies in rad/s.";
+
+const SWEEP_PARAM_AFTER_HELP: &str = "\
+Examples:
+  ihbm sweep-param duffing --param F --from 0.01 --to 1 --omega 1.2 --csv f.csv
+  ihbm sweep-param fractional-duffing --param p --from 0.1 --to 1.9 --omega 1 --plot p.svg
+
+Output as for `sweep`; the curve's `parameter` names P. In the JSON every point and
+fold keeps `omega` (the fixed Ω) and adds `param` (the value of P); jumps' `omega`
+and segments' `from_omega`/`to_omega` are values of P. The CSV's first column is P.
+A fractional order must stay inside [0, 2].";

@@ -1,12 +1,13 @@
 //! What each subcommand does, given parsed arguments and the registered models.
 
-use super::args::Command;
-use super::engine::{SimSettings, SolveSettings, SweepSettings};
+use super::args::{Command, CurveArgs};
+use super::engine::{ParamRange, SimSettings, SolveSettings};
 use super::progress;
 use super::registry::{AnyModel, Registry};
 use super::Failure;
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
+use crate::results::Curve;
 use crate::study;
 use std::io::Write;
 use std::path::Path;
@@ -60,69 +61,31 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, harmonics, set, csv, json, plot } => {
-            let model = configured(reg, &name, &set)?;
-            let settings = SweepSettings { harmonics, ..SweepSettings::default() };
+        Command::Sweep { name, from, to, curve: args } => {
+            let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
+            let settings = args.cont.settings(args.harmonics);
             let curve = model.sweep(from, to, &settings).map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
-            if let Some(path) = &csv {
-                report::write_file(path, &report::curve_csv(&curve)).map_err(Failure::failed)?;
-            }
-            if let Some(path) = &plot {
-                let panels = curve
-                    .output_names
-                    .iter()
-                    .map(|o| Panel { output: o.clone(), label: format!("max |{o}|") })
-                    .collect();
-                let fig = Figure {
-                    title: format!("{name}: amplitude–frequency curve, N = {harmonics}"),
-                    unit: FreqUnit::RadPerSec,
-                    panels,
-                    series: vec![Series { label: name.clone(), curve: &curve }],
-                    markers: vec![],
-                };
-                let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
-                report::write_file(path, &svg).map_err(Failure::failed)?;
-            }
-            match json.as_deref() {
-                Some(target) => emit_json(&report::sweep_json(&curve), target, out)?,
-                None => {
-                    w(
-                        out,
-                        format_args!(
-                            "{name}: {} points, {} folds, {} jumps, {} segments\n",
-                            curve.points.len(),
-                            curve.folds.len(),
-                            curve.jumps.len(),
-                            curve.segments.len()
-                        ),
-                    )?;
-                    for f in &curve.folds {
-                        w(out, format_args!("  fold at Ω = {:.8} rad/s\n", f.omega))?;
-                    }
-                    for j in &curve.jumps {
-                        w(
-                            out,
-                            format_args!(
-                                "  jump ({:?}) at Ω = {:.6} rad/s: {} {:.6e} -> {:.6e}\n",
-                                j.direction, j.omega, j.output, j.from, j.to
-                            ),
-                        )?;
-                    }
-                    for s in &curve.segments {
-                        w(
-                            out,
-                            format_args!(
-                                "  segment {} -> {} rad/s: {}\n",
-                                s.from_omega, s.to_omega, s.ended
-                            ),
-                        )?;
-                    }
-                }
-            }
-            Ok(())
+            let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
+            write_curve(&curve, &name, &title, &args, out)
+        }
+        Command::SweepParam { name, param, from, to, omega, curve: args } => {
+            let model = configured(reg, &name, &args.set)?;
+            let pb = progress::spinner(&format!(
+                "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
+            ));
+            let settings = args.cont.settings(args.harmonics);
+            let range = ParamRange { param: &param, from, to, omega };
+            let curve = model.sweep_param(&range, &settings).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            let curve = curve?;
+            let title = format!(
+                "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
+                curve.harmonics
+            );
+            write_curve(&curve, &name, &title, &args, out)
         }
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
             let model = configured(reg, &name, &set)?;
@@ -153,6 +116,76 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
         }
         Command::Run { study: file, out: dir } => run(reg, file.as_deref(), &dir, out),
     }
+}
+
+/// Write a traced curve: CSV, SVG, and the JSON or a human summary.
+fn write_curve(
+    curve: &Curve,
+    name: &str,
+    title: &str,
+    files: &CurveArgs,
+    out: &mut dyn Write,
+) -> Result<(), Failure> {
+    if let Some(path) = &files.csv {
+        report::write_file(path, &report::curve_csv(curve)).map_err(Failure::failed)?;
+    }
+    if let Some(path) = &files.plot {
+        let panels = curve
+            .output_names
+            .iter()
+            .map(|o| Panel { output: o.clone(), label: format!("max |{o}|") })
+            .collect();
+        let fig = Figure {
+            title: title.to_string(),
+            unit: FreqUnit::RadPerSec,
+            panels,
+            series: vec![Series { label: name.to_string(), curve }],
+            markers: vec![],
+        };
+        let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
+        report::write_file(path, &svg).map_err(Failure::failed)?;
+    }
+    if let Some(target) = files.json.as_deref() {
+        return emit_json(&report::sweep_json(curve), target, out);
+    }
+    // The continuation parameter as people write it, with its unit.
+    let (p, unit) = if curve.parameter == "omega" {
+        ("Ω".to_string(), " rad/s")
+    } else {
+        (curve.parameter.clone(), "")
+    };
+    w(
+        out,
+        format_args!(
+            "{name}: {} points, {} folds, {} jumps, {} segments\n",
+            curve.points.len(),
+            curve.folds.len(),
+            curve.jumps.len(),
+            curve.segments.len()
+        ),
+    )?;
+    for f in &curve.folds {
+        w(out, format_args!("  fold at {p} = {:.8}{unit}\n", f.param))?;
+    }
+    for j in &curve.jumps {
+        w(
+            out,
+            format_args!(
+                "  jump ({:?}) at {p} = {:.6}{unit}: {} {:.6e} -> {:.6e}\n",
+                j.direction, j.omega, j.output, j.from, j.to
+            ),
+        )?;
+    }
+    for s in &curve.segments {
+        w(
+            out,
+            format_args!("  segment {p} = {} -> {}{unit}: {}\n", s.from_omega, s.to_omega, s.ended),
+        )?;
+    }
+    if let Some(c) = &curve.convergence {
+        w(out, format_args!("  {}\n", report::convergence_line(c)))?;
+    }
+    Ok(())
 }
 
 fn w(out: &mut dyn Write, args: std::fmt::Arguments) -> Result<(), Failure> {

@@ -2,7 +2,7 @@
 //! for a concrete model type, turning their results into report records.
 
 use crate::balance::Balance;
-use crate::continuation::{self, AmplitudeBound, SweepOptions};
+use crate::continuation;
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -11,6 +11,8 @@ use crate::results::Curve;
 use crate::stability::{Hill, StabilityOptions};
 use crate::timedomain::{self, Scheme, SimOptions};
 use serde::{Deserialize, Serialize};
+
+pub use super::settings::SweepSettings;
 
 /// Settings of a single-frequency solve.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,23 +25,6 @@ impl Default for SolveSettings {
     fn default() -> Self {
         SolveSettings { harmonics: 5 }
     }
-}
-
-/// Settings of a frequency sweep (continuation); `None` keeps the solver's default.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SweepSettings {
-    /// Number of harmonics N (>= 1).
-    #[serde(skip)]
-    pub harmonics: usize,
-    /// Largest arc-length step.
-    pub max_step: Option<f64>,
-    /// Corrector tolerance.
-    pub tol: Option<f64>,
-    /// Amplitude bound at which a branch is abandoned (largest `max_abs` of any output).
-    pub amplitude_bound: Option<f64>,
-    /// Cap on the continuation steps.
-    pub max_steps: Option<usize>,
 }
 
 /// The time-integration scheme of `simulate`.
@@ -172,20 +157,46 @@ pub fn sweep<M: Model>(
             expected: "from < to".into(),
         });
     }
-    let mut opts = SweepOptions { harmonics: s.harmonics, ..SweepOptions::default() };
-    if let Some(x) = s.max_step {
-        opts.max_step = x;
-    }
-    if let Some(x) = s.tol {
-        opts.tol = x;
-    }
-    if let Some(x) = s.amplitude_bound {
-        opts.amplitude_bound = AmplitudeBound::Absolute(x);
-    }
-    if let Some(x) = s.max_steps {
-        opts.max_steps = x;
-    }
+    let opts = s.options().map_err(|e| e.cli())?;
     let mut curve = continuation::sweep(model, from, to, &opts)?;
+    curve.model = name.to_string();
+    Ok(curve)
+}
+
+/// A parameter sweep at a fixed frequency: which parameter, over which range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamRange<'a> {
+    /// Parameter name (as declared by the model).
+    pub param: &'a str,
+    /// Start value.
+    pub from: f64,
+    /// End value (> from).
+    pub to: f64,
+    /// Forcing frequency, rad/s (> 0), fixed along the curve.
+    pub omega: f64,
+}
+
+/// Trace the response at fixed frequency as a parameter goes over its range; the
+/// curve's `parameter` names it.
+pub fn sweep_param<M: Model>(
+    name: &str,
+    model: &M,
+    r: &ParamRange,
+    s: &SweepSettings,
+) -> Result<Curve> {
+    let ParamRange { param, from, to, omega } = *r;
+    check_omega("--omega", omega)?;
+    check_harmonics(s.harmonics)?;
+    model.param_index(param)?;
+    if !(from.is_finite() && to.is_finite() && from < to) {
+        return Err(Error::InvalidValue {
+            what: format!("--from/--to range of {param}"),
+            value: format!("from {from} to {to}"),
+            expected: "finite values with from < to".into(),
+        });
+    }
+    let opts = s.options().map_err(|e| e.cli())?;
+    let mut curve = continuation::sweep_param(model, param, from, to, omega, &opts)?;
     curve.model = name.to_string();
     Ok(curve)
 }

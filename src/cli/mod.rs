@@ -12,6 +12,7 @@ mod commands;
 pub mod engine;
 pub mod progress;
 pub mod registry;
+pub mod settings;
 
 use crate::model::Model;
 use clap::Parser;
@@ -127,7 +128,8 @@ impl Cli {
         I: IntoIterator<Item = T>,
         T: Into<OsString> + Clone,
     {
-        let parsed = match args::Args::try_parse_from(args) {
+        let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
+        let parsed = match args::Args::try_parse_from(&args) {
             Ok(a) => a,
             Err(e) => {
                 use clap::error::ErrorKind;
@@ -153,7 +155,7 @@ impl Cli {
                             .map(str::trim)
                             .collect::<Vec<_>>()
                             .join(" ");
-                        let _ = writeln!(err, "{line} (see --help)");
+                        let _ = writeln!(err, "{line}{} (see --help)", hint(&e, &args));
                         EXIT_USAGE
                     }
                 };
@@ -166,5 +168,21 @@ impl Cli {
                 f.code
             }
         }
+    }
+}
+
+/// A hint for a parse error clap cannot explain: `--converge 1e-4` (its optional value
+/// needs `=`, else a following model name would be taken for it).
+fn hint(e: &clap::Error, args: &[OsString]) -> &'static str {
+    use clap::error::{ContextKind, ContextValue};
+    let Some(ContextValue::String(arg)) = e.get(ContextKind::InvalidArg) else {
+        return "";
+    };
+    let after_converge =
+        args.windows(2).any(|w| w[0] == "--converge" && w[1].to_str() == Some(arg.as_str()));
+    if after_converge {
+        "; write the tolerance as --converge=TOL"
+    } else {
+        ""
     }
 }

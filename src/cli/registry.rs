@@ -4,7 +4,7 @@
 //! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
 //! monomorphises solve, sweep and simulate for `M`.
 
-use super::engine::{self, SimSettings, SolveSettings, SweepSettings};
+use super::engine::{self, ParamRange, SimSettings, SolveSettings, SweepSettings};
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo};
 use crate::report::{SimRecord, SolveRecord};
@@ -32,6 +32,8 @@ pub trait AnyModel: Send + Sync {
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
     /// Trace a frequency sweep.
     fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve>;
+    /// Trace the response at a fixed frequency as one parameter moves.
+    fn sweep_param(&self, r: &ParamRange, s: &SweepSettings) -> Result<Curve>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
     /// A copy with the same parameter values.
@@ -52,6 +54,18 @@ impl<M: Model + Clone + 'static> Registered<M> {
     }
 }
 
+impl<M> Registered<M> {
+    /// Errors name the registered model, not the type's own name.
+    fn named(&self, e: Error) -> Error {
+        match e {
+            Error::UnknownParameter { name, known, .. } => {
+                Error::UnknownParameter { name, model: self.name.clone(), known }
+            }
+            e => e,
+        }
+    }
+}
+
 impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     fn name(&self) -> &str {
         &self.name
@@ -69,13 +83,7 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         self.model.param_value(i)
     }
     fn set_param(&mut self, name: &str, value: f64) -> Result<()> {
-        // Errors name the registered model, not the type's own name.
-        self.model.set_param(name, value).map_err(|e| match e {
-            Error::UnknownParameter { name, known, .. } => {
-                Error::UnknownParameter { name, model: self.name.clone(), known }
-            }
-            e => e,
-        })
+        self.model.set_param(name, value).map_err(|e| self.named(e))
     }
     fn outputs(&self) -> &'static [Output] {
         self.model.outputs()
@@ -90,6 +98,9 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         let mut c = engine::sweep(&self.name, &self.model, from, to, s)?;
         c.model = self.name.clone();
         Ok(c)
+    }
+    fn sweep_param(&self, r: &ParamRange, s: &SweepSettings) -> Result<Curve> {
+        engine::sweep_param(&self.name, &self.model, r, s).map_err(|e| self.named(e))
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)

@@ -6,7 +6,8 @@
 //! traced curve: start at the stable point with the smallest (up) or largest (down)
 //! parameter, walk along the polyline while the parameter moves the sweep's way, and at
 //! each turning point land on the stable piece of curve (any segment, away from the
-//! fold itself) at the fold's parameter whose amplitudes are nearest. The walk stops
+//! fold itself) at the fold's parameter whose amplitudes are nearest (the polyline
+//! locates the landing; [`Landing`] lets the caller solve there exactly). The walk stops
 //! at the end of a segment, or where the branch loses stability without a fold (the
 //! response then leaves for a branch this curve does not contain: period-2 or
 //! quasi-periodic; no jump is invented).
@@ -18,6 +19,24 @@ struct Vertex {
     amps: Vec<f64>,
     stable: bool,
     fold: bool,
+    /// index into the points (None for a fold vertex)
+    index: Option<usize>,
+}
+
+/// Where a jump lands on the traced curve: between `points[a]` and `points[b]`, at
+/// weight `w` (0 at `a`, 1 at `b`) of the parameter. The amplitudes in the [`Jump`]s
+/// are interpolated there; solving at the jump's parameter from the interpolated
+/// coefficients gives them exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Landing {
+    /// The first index of the jumps (one per output) that land here.
+    pub jump: usize,
+    /// The point before the landing.
+    pub a: usize,
+    /// The point after it.
+    pub b: usize,
+    /// Where between them, by parameter.
+    pub w: f64,
 }
 
 /// The jumps of slow up and down sweeps over a traced curve, one per output each.
@@ -25,6 +44,15 @@ struct Vertex {
 /// Folds must carry their `after` index into `points`; stability comes from
 /// `points[i].stable` (fold vertices count as unstable landing places).
 pub fn find_jumps(points: &[CurvePoint], folds: &[Fold], output_names: &[String]) -> Vec<Jump> {
+    find_landings(points, folds, output_names).0
+}
+
+/// [`find_jumps`], and where each group of jumps (one per output) lands.
+pub fn find_landings(
+    points: &[CurvePoint],
+    folds: &[Fold],
+    output_names: &[String],
+) -> (Vec<Jump>, Vec<Landing>) {
     let nseg = points.iter().map(|p| p.segment + 1).max().unwrap_or(0);
     let mut lines: Vec<Vec<Vertex>> = (0..nseg).map(|_| Vec::new()).collect();
     for (i, p) in points.iter().enumerate() {
@@ -33,6 +61,7 @@ pub fn find_jumps(points: &[CurvePoint], folds: &[Fold], output_names: &[String]
             amps: p.outputs.iter().map(|o| o.max_abs).collect(),
             stable: p.stable,
             fold: false,
+            index: Some(i),
         });
         for f in folds.iter().filter(|f| f.after == i) {
             lines[p.segment].push(Vertex {
@@ -40,14 +69,16 @@ pub fn find_jumps(points: &[CurvePoint], folds: &[Fold], output_names: &[String]
                 amps: f.outputs.iter().map(|o| o.max_abs).collect(),
                 stable: false,
                 fold: true,
+                index: None,
             });
         }
     }
     let mut jumps = Vec::new();
+    let mut landings = Vec::new();
     for (direction, sign) in [(Direction::Up, 1.0), (Direction::Down, -1.0)] {
-        walk(&lines, direction, sign, folds.len(), output_names, &mut jumps);
+        walk(&lines, direction, sign, folds.len(), output_names, &mut jumps, &mut landings);
     }
-    jumps
+    (jumps, landings)
 }
 
 fn walk(
@@ -57,6 +88,7 @@ fn walk(
     nfolds: usize,
     names: &[String],
     jumps: &mut Vec<Jump>,
+    landings: &mut Vec<Landing>,
 ) {
     let key = |v: &Vertex| sign * v.x;
     // Start: the stable point furthest back in the sweep direction.
@@ -97,7 +129,7 @@ fn walk(
         }
         budget -= 1;
         let xf = key(vi);
-        let mut best: Option<(f64, usize, usize, Vec<f64>)> = None;
+        let mut best: Option<(f64, usize, usize, Vec<f64>, f64)> = None;
         for (l2, line) in lines.iter().enumerate() {
             for k in 0..line.len().saturating_sub(1) {
                 if l2 == l && k + 2 >= i && k <= i + 1 {
@@ -120,11 +152,14 @@ fn walk(
                     .map(|(p, q)| (p - q).abs() / (p.abs() + q.abs()).max(f64::MIN_POSITIVE))
                     .sum();
                 if best.as_ref().is_none_or(|b| dist < b.0) {
-                    best = Some((dist, l2, k, amps));
+                    best = Some((dist, l2, k, amps, w));
                 }
             }
         }
-        let Some((_, l2, k, amps)) = best else { return };
+        let Some((_, l2, k, amps, w)) = best else { return };
+        if let (Some(a), Some(b)) = (lines[l2][k].index, lines[l2][k + 1].index) {
+            landings.push(Landing { jump: jumps.len(), a, b, w });
+        }
         for (o, name) in names.iter().enumerate() {
             jumps.push(Jump {
                 direction,

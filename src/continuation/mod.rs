@@ -55,7 +55,7 @@ use crate::results::{
 use crate::stability::{Crossing, Hill, StabilityOptions};
 use tracer::{dot, Axis, Tracer};
 
-pub use jumps::find_jumps;
+pub use jumps::{find_jumps, find_landings, Landing};
 
 /// Predictor direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -531,6 +531,15 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 for i in 0..=n {
                     y[i] = nd.y[i] + h * dirv[i];
                 }
+                // Second order: the curvature from the last two tangents, so that the
+                // first Newton step lands close enough for chord updates to finish.
+                if opts.predictor == Predictor::Tangent && last > first && nd.h > 0.0 {
+                    let prev = &self.nodes[last - 1];
+                    let f = 0.5 * h * h / nd.h;
+                    for i in 0..=n {
+                        y[i] += f * (nd.t[i] - prev.t[i]);
+                    }
+                }
             }
             let target = dot(&dirv, &self.nodes[last].y) + h;
             let it = match self.tr.correct(&mut y, &dirv, target) {
@@ -561,7 +570,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 let mut yb: Vec<f64> = yl.iter().zip(&y).map(|(a, c)| a + f * (c - a)).collect();
                 let mut e_n = vec![0.0; n + 1];
                 e_n[n] = 1.0;
-                return match self.tr.correct(&mut yb, &e_n, b) {
+                return match self.tr.correct_exact(&mut yb, &e_n, b) {
                     Ok(_) => {
                         let mut tb = vec![0.0; n + 1];
                         self.tr.tangent(&mut tb);
@@ -586,10 +595,11 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 return SegmentEnd::AmplitudeBound;
             }
             // Step control: corrector effort and tangent turn.
+            // (Newton iterations: chord updates in between are cheap.)
             let mut factor: f64 = match it {
-                0..=2 => 1.6,
-                3 => 1.25,
-                4 => 1.0,
+                0..=1 => 1.6,
+                2 => 1.25,
+                3 => 1.0,
                 _ => 0.6,
             };
             if angle > 0.0 {
@@ -672,7 +682,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             for i in 0..=n {
                 y[i] = y_i[i] + s * dirv[i];
             }
-            if self.tr.correct(&mut y, dirv, base + s).is_err() {
+            if self.tr.correct_exact(&mut y, dirv, base + s).is_err() {
                 break;
             }
             self.tr.tangent(&mut t);
@@ -728,6 +738,35 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             bracket.update(s, f);
         }
         best
+    }
+
+    /// Replace the polyline's landing amplitudes by the solution at the jump's
+    /// parameter, corrected from the interpolated coefficients (kept as they are if
+    /// the corrector fails there).
+    fn land_exactly(
+        &mut self,
+        jumps: &mut [crate::results::Jump],
+        landings: &[Landing],
+        nout: usize,
+    ) {
+        let n = self.tr.n;
+        let mut e_n = vec![0.0; n + 1];
+        e_n[n] = 1.0;
+        for l in landings {
+            let Some(first) = jumps.get(l.jump) else { continue };
+            let (ya, yb) = (&self.nodes[l.a].y, &self.nodes[l.b].y);
+            let mut y: Vec<f64> = ya.iter().zip(yb).map(|(p, q)| p + l.w * (q - p)).collect();
+            let target = first.omega / self.tr.sl;
+            y[n] = target;
+            if self.tr.correct(&mut y, &e_n, target).is_err() {
+                continue;
+            }
+            self.tr.set_point(&y);
+            let (_, _, _, outputs) = self.point_at(&y);
+            for (j, o) in jumps[l.jump..].iter_mut().take(nout).zip(&outputs) {
+                j.to = o.max_abs;
+            }
+        }
     }
 
     /// Unscaled point data at `y`.
@@ -821,9 +860,11 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         }
         self.stats.folds = folds.len();
         self.stats.corrector_iterations = self.tr.iterations;
+        self.stats.chord_steps = self.tr.chord_steps;
         let output_names: Vec<String> =
             model.outputs().iter().map(|o| o.name.to_string()).collect();
-        let jumps = find_jumps(&points, &folds, &output_names);
+        let (mut jumps, landings) = find_landings(&points, &folds, &output_names);
+        self.land_exactly(&mut jumps, &landings, output_names.len());
         Ok(Curve {
             model: model.name().to_string(),
             harmonics: self.opts.harmonics,

@@ -37,6 +37,8 @@ pub(crate) struct Tracer<'m, M: Model> {
     pub max_iter: usize,
     /// Newton iterations, all calls together.
     pub iterations: usize,
+    /// Chord updates (residual only), all calls together.
+    pub chord_steps: usize,
     lu: DenseLu,
     rhs: Vec<f64>,
     r: Vec<f64>,
@@ -57,6 +59,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             tol,
             max_iter,
             iterations: 0,
+            chord_steps: 0,
             lu: DenseLu::new(n + 1),
             rhs: vec![0.0; n + 1],
             r: vec![0.0; n],
@@ -172,14 +175,91 @@ impl<'m, M: Model> Tracer<'m, M> {
         Ok(dn)
     }
 
+    /// One chord update at `y` with the LU of the last Newton step (residual only).
+    fn chord_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, String> {
+        let n = self.n;
+        self.chord_steps += 1;
+        for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
+            *a = v * self.sa;
+        }
+        let lam = y[n] * self.sl;
+        let omega = match self.axis {
+            Axis::Omega => lam,
+            Axis::Param { index, omega } => {
+                self.bal.set_param(index, lam);
+                omega
+            }
+        };
+        self.bal.residual(&self.a, omega, &mut self.r);
+        for i in 0..n {
+            self.rhs[i] = self.r[i] / self.sr;
+        }
+        self.rhs[n] = dot(border, y) - target;
+        self.lu.solve(&mut self.rhs);
+        let mut dn = 0.0f64;
+        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
+            *yi -= d;
+            dn = dn.max(d.abs());
+        }
+        if !dn.is_finite() {
+            return Err(format!("non-finite chord step at Ω = {:.6}", self.omega(y)));
+        }
+        Ok(dn)
+    }
+
     /// Bordered Newton from `y` (overwritten) on `R = 0`, `border · y = target`.
-    /// Returns the iterations used, or why it failed.
+    /// Returns the Newton iterations (Jacobians) used, or why it failed.
+    ///
+    /// After a Newton step of length `dn`, the LU at hand belongs to a point about
+    /// `dn` from the solution, so *chord* updates with it (the residual solved with
+    /// that LU: one residual evaluation, no Jacobian, no factorisation) contract the
+    /// error by about `C·dn` each. From a good predictor one Newton step is then
+    /// followed by a chord step or two; when a chord step contracts by less than a
+    /// factor 10, Newton resumes. Converged when an update is below `tol`, so the
+    /// error left is far below it. The tangent comes from that LU, off by about
+    /// `dn`: harmless for prediction and step control ([`Tracer::correct_exact`] is
+    /// for where it is not).
     pub fn correct(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, String> {
+        self.correct_to(y, border, target, true)
+    }
+
+    /// [`Tracer::correct`] with Newton steps only, so that the LU (and the tangent)
+    /// belong to the converged point: for locating folds, where the tangent's
+    /// λ-component is the unknown.
+    pub fn correct_exact(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+    ) -> Result<usize, String> {
+        self.correct_to(y, border, target, false)
+    }
+
+    fn correct_to(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+        chord: bool,
+    ) -> Result<usize, String> {
         let mut prev = f64::INFINITY;
         for it in 1..=self.max_iter {
             let dn = self.newton_step(y, border, target)?;
             if dn <= self.tol {
                 return Ok(it);
+            }
+            if chord && dn < 1e-2 {
+                let mut last = dn;
+                for _ in 0..4 {
+                    let dc = self.chord_step(y, border, target)?;
+                    if dc <= self.tol {
+                        return Ok(it);
+                    }
+                    if dc > 0.1 * last {
+                        break;
+                    }
+                    last = dc;
+                }
             }
             if it >= 3 && dn > 0.5 * prev {
                 return Err(format!(

@@ -1,10 +1,12 @@
-//! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...`.
+//! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...` (for a
+//! parameter sweep the first column is the parameter, named as in the model).
 
 use crate::results::Curve;
 use std::fmt::Write;
 
 /// The CSV of a curve: a header, then one row per point in arc-length order
-/// (CONTRACT section 2). Numbers use Rust's shortest round-trip form.
+/// (CONTRACT section 2). Numbers use Rust's shortest round-trip form. A parameter
+/// sweep's first column is the parameter (`curve.parameter`) and its values.
 ///
 /// ```
 /// use ihbm::results::{Curve, CurvePoint, CurveStats, PointOutput};
@@ -19,14 +21,16 @@ use std::fmt::Write;
 ///            "omega,stable,x_max_abs,x_mean,x_amp1\n2,true,0.5,0,0.5\n");
 /// ```
 pub fn curve_csv(curve: &Curve) -> String {
-    let mut s = String::from("omega,stable");
+    let by_param = curve.parameter != "omega";
+    let mut s = format!("{},stable", curve.parameter);
     for name in &curve.output_names {
         // Writing to a String cannot fail.
         let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
     }
     s.push('\n');
     for p in &curve.points {
-        let _ = write!(s, "{},{}", p.omega, p.stable);
+        let x = if by_param { p.param } else { p.omega };
+        let _ = write!(s, "{x},{}", p.stable);
         for o in &p.outputs {
             let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
         }

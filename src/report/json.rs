@@ -32,14 +32,23 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 }
 
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
-/// `parameter`, `stats` and `bifurcations` (extensions, after the contract's fields).
+/// `parameter`, `stats` and `bifurcations` (extensions, after the contract's fields),
+/// and `convergence` when a harmonic-convergence study was run. For a parameter
+/// sweep (`parameter` not `"omega"`) every point and fold also carries `param`, the
+/// parameter's value (`omega` stays the fixed frequency); jumps' `omega` and
+/// segments' `from_omega`/`to_omega` are then parameter values.
 pub fn sweep_json(c: &Curve) -> Value {
+    let by_param = c.parameter != "omega";
     let points: Vec<Value> = c
         .points
         .iter()
         .map(|p| {
-            json!({ "omega": p.omega, "stable": p.stable,
-                    "outputs": point_outputs(&c.output_names, &p.outputs) })
+            let mut v = json!({ "omega": p.omega, "stable": p.stable,
+                    "outputs": point_outputs(&c.output_names, &p.outputs) });
+            if by_param {
+                v["param"] = json!(p.param);
+            }
+            v
         })
         .collect();
     let folds: Vec<Value> = c
@@ -50,7 +59,11 @@ pub fn sweep_json(c: &Curve) -> Value {
             for (name, o) in c.output_names.iter().zip(&f.outputs) {
                 m.insert(name.clone(), json!({ "max_abs": o.max_abs }));
             }
-            json!({ "omega": f.omega, "outputs": Value::Object(m) })
+            let mut v = json!({ "omega": f.omega, "outputs": Value::Object(m) });
+            if by_param {
+                v["param"] = json!(f.param);
+            }
+            v
         })
         .collect();
     let jumps: Vec<Value> = c
@@ -69,11 +82,15 @@ pub fn sweep_json(c: &Curve) -> Value {
                     "ended": s.ended.to_string() })
         })
         .collect();
-    json!({
+    let mut v = json!({
         "model": c.model, "harmonics": c.harmonics, "points": points,
         "folds": folds, "jumps": jumps, "segments": segments,
         "parameter": c.parameter, "stats": c.stats, "bifurcations": c.bifurcations,
-    })
+    });
+    if let Some(conv) = &c.convergence {
+        v["convergence"] = json!(conv);
+    }
+    v
 }
 
 /// The JSON of `simulate`: `{model, omega, dt, periods, scheme, outputs: {name:

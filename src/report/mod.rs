@@ -16,7 +16,7 @@ use std::path::Path;
 pub use csv::curve_csv;
 pub use json::{simulate_json, solve_json, sweep_json};
 pub use plot::{figure_svg, Figure, Panel, Series, TimeMarker};
-pub use summary::{curve_facts, CurveFacts};
+pub use summary::{convergence_line, curve_facts, CurveFacts};
 
 /// The unit of the frequency axis of figures (data files are always in rad/s).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

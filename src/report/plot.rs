@@ -101,14 +101,46 @@ pub fn figure_svg(fig: &Figure) -> Result<String, Error> {
     Ok(svg)
 }
 
+/// The x axis: Ω in the figure's unit, or the parameter of a parameter sweep (the
+/// first series whose curve's `parameter` is not `"omega"` decides).
+#[derive(Debug, Clone, Copy)]
+enum XAxis<'a> {
+    Freq(FreqUnit),
+    Param(&'a str),
+}
+
+impl<'a> XAxis<'a> {
+    fn of(fig: &'a Figure) -> Self {
+        match fig.series.iter().find(|s| s.curve.parameter != "omega") {
+            Some(s) => XAxis::Param(&s.curve.parameter),
+            None => XAxis::Freq(fig.unit),
+        }
+    }
+
+    /// Where a point at frequency `omega` and parameter value `param` goes.
+    fn x(self, omega: f64, param: f64) -> f64 {
+        match self {
+            XAxis::Freq(u) => u.from_rad(omega),
+            XAxis::Param(_) => param,
+        }
+    }
+
+    fn label(self) -> String {
+        match self {
+            XAxis::Freq(u) => format!("forcing frequency Ω ({})", u.label()),
+            XAxis::Param(p) => format!("parameter {p}"),
+        }
+    }
+}
+
 /// Runs of consecutive points with one stability and one segment; a run that starts
 /// at a stability change repeats the previous point so the line stays continuous.
-fn runs(curve: &Curve, idx: usize, unit: FreqUnit) -> Vec<(bool, Vec<(f64, f64)>)> {
+fn runs(curve: &Curve, idx: usize, axis: XAxis) -> Vec<(bool, Vec<(f64, f64)>)> {
     let mut out: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
     let mut prev: Option<(usize, bool, (f64, f64))> = None;
     for p in &curve.points {
         let Some(o) = p.outputs.get(idx) else { continue };
-        let xy = (unit.from_rad(p.omega), o.max_abs);
+        let xy = (axis.x(p.omega, p.param), o.max_abs);
         if !xy.0.is_finite() || !xy.1.is_finite() {
             continue;
         }
@@ -131,12 +163,12 @@ fn draw_panel(
     panel: &Panel,
     area: &DrawingArea<SVGBackend, Shift>,
 ) -> Result<(), Error> {
-    let unit = fig.unit;
+    let axis = XAxis::of(fig);
     let (mut x0, mut x1, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
     for s in &fig.series {
         if let Some(i) = s.curve.output_names.iter().position(|n| *n == panel.output) {
             for p in &s.curve.points {
-                let x = unit.from_rad(p.omega);
+                let x = axis.x(p.omega, p.param);
                 if let Some(o) = p.outputs.get(i) {
                     if x.is_finite() && o.max_abs.is_finite() {
                         x0 = x0.min(x);
@@ -171,7 +203,7 @@ fn draw_panel(
         .map_err(plot_err)?;
     chart
         .configure_mesh()
-        .x_desc(format!("forcing frequency Ω ({})", unit.label()))
+        .x_desc(axis.label())
         .y_desc(panel.label.clone())
         .y_label_formatter(&|v| format!("{v:.decimals$}"))
         .label_style(("sans-serif", 13))
@@ -189,7 +221,7 @@ fn draw_panel(
             continue;
         };
         let mut labelled = false;
-        for (stable, pts) in runs(s.curve, idx, unit) {
+        for (stable, pts) in runs(s.curve, idx, axis) {
             let style = color.stroke_width(2);
             if stable {
                 let series = chart.draw_series(LineSeries::new(pts, style)).map_err(plot_err)?;
@@ -229,7 +261,7 @@ fn draw_panel(
             .curve
             .folds
             .iter()
-            .filter_map(|f| f.outputs.get(idx).map(|o| (unit.from_rad(f.omega), o.max_abs)))
+            .filter_map(|f| f.outputs.get(idx).map(|o| (axis.x(f.omega, f.param), o.max_abs)))
             .collect();
         if !folds.is_empty() {
             let series = chart
@@ -243,7 +275,8 @@ fn draw_panel(
             }
         }
         for j in s.curve.jumps.iter().filter(|j| j.output == panel.output) {
-            let x = unit.from_rad(j.omega);
+            // A jump's `omega` is the continuation parameter's value.
+            let x = axis.x(j.omega, j.omega);
             chart
                 .draw_series(std::iter::once(TriangleMarker::new((x, j.to), 5, color.filled())))
                 .map_err(plot_err)?;
@@ -279,7 +312,7 @@ fn draw_panel(
             .markers
             .iter()
             .filter(|m| m.label == *label && m.output == panel.output && m.value.is_finite())
-            .map(|m| (unit.from_rad(m.omega), m.value))
+            .map(|m| (axis.x(m.omega, m.omega), m.value))
             .collect();
         let style = BLACK.stroke_width(2);
         let series = if k % 2 == 0 {

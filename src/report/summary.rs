@@ -1,6 +1,6 @@
 //! Facts read off a curve for `summary.md`: peak amplitude and frequency, folds.
 
-use crate::results::Curve;
+use crate::results::{Curve, HarmonicConvergence};
 
 /// What `summary.md` reports about one output of one curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,4 +52,25 @@ pub fn curve_facts(curve: &Curve, output: &str, band: Option<(f64, f64)>) -> Opt
         folds: curve.folds.iter().filter(|f| in_band(f.omega)).map(|f| f.omega).collect(),
         unstable_points: unstable,
     })
+}
+
+/// One line on a harmonic-convergence study: the levels run and the error estimate.
+///
+/// ```
+/// use ihbm::results::{HarmonicConvergence, HarmonicLevel};
+/// let level = |n| HarmonicLevel { harmonics: n, peaks: vec![], folds: vec![], change: 0.0 };
+/// let c = HarmonicConvergence { levels: vec![level(5), level(7)], tol: 1e-3,
+///                               converged: true, estimate: 4.1e-5 };
+/// assert_eq!(ihbm::report::convergence_line(&c),
+///     "harmonic convergence (N = 5, 7): estimated relative error 4.100e-5, converged (tol 1e-3)");
+/// ```
+pub fn convergence_line(c: &HarmonicConvergence) -> String {
+    let ns: Vec<String> = c.levels.iter().map(|l| l.harmonics.to_string()).collect();
+    format!(
+        "harmonic convergence (N = {}): estimated relative error {:.3e}, {} (tol {:e})",
+        ns.join(", "),
+        c.estimate,
+        if c.converged { "converged" } else { "NOT converged" },
+        c.tol
+    )
 }

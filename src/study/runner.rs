@@ -66,17 +66,6 @@ enum Done {
     Solve(Result<SolveRecord>),
 }
 
-fn merge(base: &SweepSettings, over: Option<&SweepSettings>) -> SweepSettings {
-    let mut s = base.clone();
-    if let Some(o) = over {
-        s.max_step = o.max_step.or(s.max_step);
-        s.tol = o.tol.or(s.tol);
-        s.amplitude_bound = o.amplitude_bound.or(s.amplitude_bound);
-        s.max_steps = o.max_steps.or(s.max_steps);
-    }
-    s
-}
-
 fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
     let base = study.base_model(reg)?;
     let default_outputs: Vec<String> = if study.outputs.is_empty() {
@@ -91,7 +80,7 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
         apply(study, model.as_mut(), &fig.params)?;
         let harmonics = fig.harmonics.unwrap_or(study.harmonics);
         let range = fig.frequency.unwrap_or(study.frequency);
-        let sweep = merge(&study.sweep, fig.sweep.as_ref());
+        let sweep = study.sweep.merged(fig.sweep.as_ref());
         let mut curves = Vec::new();
         match &fig.vary {
             None => curves.push(CurvePlan {

@@ -10,6 +10,10 @@
 //! params = { k3 = 3e6 }          # overrides for every figure
 //! labels = { z1 = "body displacement max|z1| (m)" }   # y-axis labels
 //! sweep = { max_step = 0.5, amplitude_bound = 1.0 }   # continuation settings
+//! # sweep keys: initial_step, min_step, max_step, tol, predictor ("tangent" | "secant"),
+//! # amplitude_bound ("rel:1e3" | "abs:0.5" | "none" | a number: abs), max_steps,
+//! # stability (false skips it), converge (harmonic-convergence tolerance) — the same
+//! # settings and checks as the `sweep` command's flags (crate::cli::settings)
 //!
 //! [[figure]]
 //! id = "fig09"                   # file stem: fig09.svg, fig09_k3_1e6.csv, ...
@@ -259,6 +263,7 @@ impl Study {
     pub fn validate(&self, reg: &Registry) -> Result<()> {
         let base = self.base_model(reg)?;
         self.check_harmonics(self.harmonics, None)?;
+        self.check_sweep(&self.sweep, None)?;
         self.check_range(&self.frequency, "frequency")?;
         check_outputs(self, base.as_ref(), &self.outputs)?;
         let mut ids: Vec<&str> = Vec::new();
@@ -280,6 +285,9 @@ impl Study {
             apply(self, m.as_mut(), &fig.params)?;
             if let Some(n) = fig.harmonics {
                 self.check_harmonics(n, Some(id))?;
+            }
+            if fig.sweep.is_some() {
+                self.check_sweep(&self.sweep.merged(fig.sweep.as_ref()), Some(id))?;
             }
             if let Some(r) = &fig.frequency {
                 self.check_range(r, &format!("figure '{id}': frequency"))?;
@@ -384,6 +392,13 @@ impl Study {
             return Err(self.whole(format!("{what}harmonics = {n} (expected N >= 1)")));
         }
         Ok(())
+    }
+
+    fn check_sweep(&self, s: &SweepSettings, fig: Option<&str>) -> Result<()> {
+        s.options().map(|_| ()).map_err(|e| {
+            let what = fig.map_or(String::new(), |f| format!("figure '{f}': "));
+            self.whole(format!("{what}{}", e.study()))
+        })
     }
 
     fn check_range(&self, r: &Range, what: &str) -> Result<()> {

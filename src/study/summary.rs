@@ -4,7 +4,7 @@
 use super::claims::{evaluate, Member, TdRow};
 use super::runner::StudyOutcome;
 use super::spec::{FigureSpec, Study};
-use crate::report::curve_facts;
+use crate::report::{convergence_line, curve_facts};
 use std::fmt::Write;
 
 /// What one figure produced (input of [`markdown`]).
@@ -88,6 +88,14 @@ pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> Str
             let _ = writeln!(s, "| {l} | — | failed | | | | |");
         }
         s.push('\n');
+        for m in &fig.members {
+            if let Some(c) = &m.curve.convergence {
+                let _ = writeln!(s, "- {}: {}", m.label, convergence_line(c));
+            }
+        }
+        if fig.members.iter().any(|m| m.curve.convergence.is_some()) {
+            s.push('\n');
+        }
         if !fig.td_rows.is_empty() {
             let _ = writeln!(s, "Time integration vs IHBM (N = {}):\n", fig.harmonics);
             let _ = writeln!(

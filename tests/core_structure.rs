@@ -1,0 +1,136 @@
+//! The structure shortcuts of the harmonic balance (`Model::affine_signals`,
+//! `Model::explicit_omega`): what the macro derives from the equations, that the
+//! shortcut derivatives equal the general ones, and that a wrong hand-written claim is
+//! refused instead of silently giving wrong Jacobians.
+
+use ihbm::balance::Balance;
+use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
+use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
+use num_dual::DualNum;
+
+#[test]
+fn the_macro_reads_the_structure_off_the_equations() {
+    // Quarter car: m1 z1'' + k1 y + k3 y³ + c y' + h D^p y, y = z1 - z2; the cubic makes
+    // z1 and z2 (the signals y³ is built from) non-affine, every derivative enters
+    // linearly with a parameter coefficient, and Ω appears only in the forcing.
+    let car = QuarterCar::default();
+    let affine: Vec<(bool, Order)> =
+        car.signals().iter().zip(car.affine_signals()).map(|(s, &a)| (a, s.order)).collect();
+    for (a, order) in &affine {
+        assert_eq!(*a, *order != Order::Int(0), "{affine:?}");
+    }
+    assert!(!car.explicit_omega());
+    // Base excitation m U Ω² cos Ωt uses Ω as a coefficient.
+    assert!(BaseExcited::default().explicit_omega());
+    let duffing = Duffing::default();
+    for (s, &a) in duffing.signals().iter().zip(duffing.affine_signals()) {
+        assert_eq!(a, s.order != Order::Int(0));
+    }
+}
+
+/// `∂R/∂Ω` right after `jacobian` (from the signal gradients, for models without
+/// explicit Ω) against a cold evaluation (one dual pass with Ω seeded).
+fn d_omega_shortcut_matches<M: Model>(model: &M, harmonics: usize, omega: f64) {
+    let mut warm = Balance::new(model, harmonics).unwrap();
+    let mut cold = Balance::new(model, harmonics).unwrap();
+    let n = warm.len();
+    let a: Vec<f64> = (0..n).map(|i| 0.01 * ((i * 7 + 3) as f64).sin()).collect();
+    let mut r = vec![0.0; n];
+    let mut jac = faer::Mat::<f64>::zeros(n, n);
+    warm.jacobian(&a, omega, &mut r, jac.as_mut());
+    let (mut d1, mut d2) = (vec![0.0; n], vec![0.0; n]);
+    warm.d_omega(&a, omega, &mut d1);
+    cold.d_omega(&a, omega, &mut d2);
+    let scale = d2.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(scale > 0.0);
+    for (x, y) in d1.iter().zip(&d2) {
+        assert!((x - y).abs() <= 1e-12 * scale, "{}: {x} vs {y}", model.name());
+    }
+}
+
+#[test]
+fn d_omega_from_gradients_equals_the_dual_pass() {
+    d_omega_shortcut_matches(&QuarterCar { k3: 5e6, ..Default::default() }, 5, 13.0);
+    d_omega_shortcut_matches(&Duffing::default(), 4, 1.3);
+    d_omega_shortcut_matches(&FractionalDuffing::default(), 3, 0.7);
+    d_omega_shortcut_matches(&TwoMassChain::default(), 3, 2.1);
+    // explicit Ω: the shortcut is not taken, the two must agree trivially
+    d_omega_shortcut_matches(&BaseExcited::default(), 3, 5.0);
+}
+
+/// A cubic oscillator written by hand, with structure claims set per instance.
+#[derive(Clone)]
+struct Claims {
+    affine: &'static [bool],
+    explicit_omega: bool,
+    omega_in_forcing_amplitude: bool,
+}
+
+impl Model for Claims {
+    fn name(&self) -> &'static str {
+        "claims"
+    }
+    fn dofs(&self) -> &'static [&'static str] {
+        &["x"]
+    }
+    fn params_info(&self) -> &'static [ParamInfo] {
+        const P: [ParamInfo; 1] = [ParamInfo { name: "k3", default: 1.0, doc: "cubic" }];
+        &P
+    }
+    fn param_value(&self, _: usize) -> f64 {
+        1.0
+    }
+    fn set_param_value(&mut self, _: usize, _: f64) {}
+    fn signals(&self) -> &'static [Signal] {
+        const X: &[(usize, f64)] = &[(0, 1.0)];
+        const S: [Signal; 3] = [
+            Signal { terms: X, order: Order::Int(0) },
+            Signal { terms: X, order: Order::Int(1) },
+            Signal { terms: X, order: Order::Int(2) },
+        ];
+        &S
+    }
+    fn outputs(&self) -> &'static [Output] {
+        const O: [Output; 1] = [Output { name: "x", terms: &[(0, 1.0)] }];
+        &O
+    }
+    fn degree(&self) -> usize {
+        3
+    }
+    fn affine_signals(&self) -> &'static [bool] {
+        self.affine
+    }
+    fn explicit_omega(&self) -> bool {
+        self.explicit_omega
+    }
+    fn residual<D: DualNum<Primitive = f64> + Copy>(
+        &self,
+        p: &[D],
+        omega: D,
+        phase: f64,
+        s: &[D],
+        r: &mut [D],
+    ) {
+        let amp = if self.omega_in_forcing_amplitude { omega * omega } else { D::one() };
+        r[0] = s[2] + s[1] * 0.1 + s[0] + p[0] * s[0].powi(3) - amp * phase.cos();
+    }
+}
+
+#[test]
+fn wrong_structure_claims_are_refused() {
+    let honest = Claims {
+        affine: &[false, true, true],
+        explicit_omega: false,
+        omega_in_forcing_amplitude: false,
+    };
+    assert!(Balance::new(&honest, 3).is_ok());
+    let cubic_claimed_affine = Claims { affine: &[true, true, true], ..honest.clone() };
+    let err = Balance::new(&cubic_claimed_affine, 3).unwrap_err().to_string();
+    assert!(err.contains("affine") && err.contains("signal 0"), "{err}");
+    let wrong_length = Claims { affine: &[true], ..honest.clone() };
+    let err = Balance::new(&wrong_length, 3).unwrap_err().to_string();
+    assert!(err.contains("1 entries for 3 signals"), "{err}");
+    let hidden_omega = Claims { omega_in_forcing_amplitude: true, ..honest };
+    let err = Balance::new(&hidden_omega, 3).unwrap_err().to_string();
+    assert!(err.contains("explicit_omega"), "{err}");
+}
