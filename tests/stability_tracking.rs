@@ -8,38 +8,42 @@ mod stability_common;
 
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};
+use ihbm::results::Curve;
 use stability_common::compare;
 
-fn car(k3: f64, f: f64) -> QuarterCar {
-    QuarterCar { k3, F: f, ..Default::default() }
+/// The quarter car's curve 1 → 100 rad/s at N = 5 with `k3`, `F`; `check` on the
+/// curve, then tracking vs the full analysis at every point.
+fn car_curve(k3: f64, f: f64, what: &str, check: impl Fn(&Curve)) {
+    let model = QuarterCar { k3, F: f, ..Default::default() };
+    let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
+    check(&c);
+    let k = compare(&model, &c, 5);
+    eprintln!("quarter car {what}: {} points, {k:?}", c.points.len());
 }
 
 #[test]
 fn quarter_car_default_curve() {
-    let model = QuarterCar::default();
-    let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
-    let k = compare(&model, &c, 5);
-    eprintln!("quarter car default: {} points, {k:?}", c.points.len());
+    let d = QuarterCar::default();
+    car_curve(d.k3, d.F, "default", |c| assert!(c.points.iter().all(|p| p.stable)));
 }
 
 #[test]
 fn quarter_car_with_folds() {
-    let model = car(5e6, 0.03);
-    let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
-    assert_eq!(c.folds.len(), 2);
-    assert!(c.points.iter().any(|p| !p.stable), "the middle branch is unstable");
-    let k = compare(&model, &c, 5);
-    eprintln!("quarter car folds: {} points, {k:?}", c.points.len());
+    car_curve(5e6, 0.03, "folds", |c| {
+        let folds: Vec<f64> = c.folds.iter().map(|f| f.omega).collect();
+        assert_eq!(folds.len(), 2);
+        assert!(folds.iter().any(|w| (w - 13.01).abs() < 0.01), "{folds:?}");
+        assert!(folds.iter().any(|w| (w - 15.51).abs() < 0.01), "{folds:?}");
+        assert!(c.points.iter().any(|p| !p.stable), "the middle branch is unstable");
+    });
 }
 
 #[test]
 fn quarter_car_torus_bubble() {
-    let model = car(5e6, 0.1);
-    let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
-    let inside = c.points.iter().filter(|p| (58.0..61.5).contains(&p.omega));
-    assert!(inside.clone().count() > 0 && inside.clone().all(|p| !p.stable));
-    let k = compare(&model, &c, 5);
-    eprintln!("quarter car torus: {} points, {k:?}", c.points.len());
+    car_curve(5e6, 0.1, "torus", |c| {
+        let inside = c.points.iter().filter(|p| (58.0..61.5).contains(&p.omega));
+        assert!(inside.clone().count() > 0 && inside.clone().all(|p| !p.stable));
+    });
 }
 
 #[test]

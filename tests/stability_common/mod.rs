@@ -42,5 +42,6 @@ pub fn compare<M: Model>(model: &M, curve: &Curve, n: usize) -> TrackCounts {
     }
     let c = hill.counts();
     assert_eq!(c.full + c.tracked, curve.points.len());
+    assert!(c.tracked > 0, "tracking never used: {c:?}");
     c
 }
