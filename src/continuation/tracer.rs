@@ -110,20 +110,39 @@ impl<'m, M: Model> Tracer<'m, M> {
         self.r.iter().fold(0.0, |m: f64, v| m.max(v.abs()))
     }
 
-    /// Fill the bordered matrix and the scaled residual at `y`.
-    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) {
+    /// Unscaled coefficients of `y` into `self.a`, the parameter into `bal`; Ω.
+    fn unscale(&mut self, y: &[f64]) -> f64 {
         let n = self.n;
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * self.sa;
         }
         let lam = y[n] * self.sl;
-        let omega = match self.axis {
+        match self.axis {
             Axis::Omega => lam,
             Axis::Param { index, omega } => {
                 self.bal.set_param(index, lam);
                 omega
             }
-        };
+        }
+    }
+
+    /// `y -= rhs` (the solved update); its max-norm, which must be finite.
+    fn apply(&self, y: &mut [f64], what: &str) -> Result<f64, String> {
+        let mut dn = 0.0f64;
+        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
+            *yi -= d;
+            dn = dn.max(d.abs());
+        }
+        if !dn.is_finite() {
+            return Err(format!("non-finite {what} at Ω = {:.6}", self.omega(y)));
+        }
+        Ok(dn)
+    }
+
+    /// Fill the bordered matrix and the scaled residual at `y`.
+    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) {
+        let n = self.n;
+        let omega = self.unscale(y);
         let mut k = self.lu.matrix_mut();
         self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
         match self.axis {
@@ -164,47 +183,21 @@ impl<'m, M: Model> Tracer<'m, M> {
             return Err(format!("singular bordered Jacobian at Ω = {:.6}", self.omega(y)));
         }
         self.lu.solve(&mut self.rhs);
-        let mut dn = 0.0f64;
-        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
-            *yi -= d;
-            dn = dn.max(d.abs());
-        }
-        if !dn.is_finite() {
-            return Err(format!("non-finite Newton step at Ω = {:.6}", self.omega(y)));
-        }
-        Ok(dn)
+        self.apply(y, "Newton step")
     }
 
     /// One chord update at `y` with the LU of the last Newton step (residual only).
     fn chord_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, String> {
         let n = self.n;
         self.chord_steps += 1;
-        for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
-            *a = v * self.sa;
-        }
-        let lam = y[n] * self.sl;
-        let omega = match self.axis {
-            Axis::Omega => lam,
-            Axis::Param { index, omega } => {
-                self.bal.set_param(index, lam);
-                omega
-            }
-        };
+        let omega = self.unscale(y);
         self.bal.residual(&self.a, omega, &mut self.r);
         for i in 0..n {
             self.rhs[i] = self.r[i] / self.sr;
         }
         self.rhs[n] = dot(border, y) - target;
         self.lu.solve(&mut self.rhs);
-        let mut dn = 0.0f64;
-        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
-            *yi -= d;
-            dn = dn.max(d.abs());
-        }
-        if !dn.is_finite() {
-            return Err(format!("non-finite chord step at Ω = {:.6}", self.omega(y)));
-        }
-        Ok(dn)
+        self.apply(y, "chord step")
     }
 
     /// Bordered Newton from `y` (overwritten) on `R = 0`, `border · y = target`.
