@@ -245,10 +245,13 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
-    /// Candidates of the last full analysis, one per conjugate pair, and the smallest
-    /// `|Im|` of an eigenvalue it left out.
+    /// `|centre|` of each selected candidate, and the smallest `|centre|` of an
+    /// eigenvalue the selection left out (see [`Hill::select_centred`]).
+    centres: Vec<f64>,
+    next_centre: f64,
+    /// Exponents of the last full analysis, one per conjugate pair, not folded: the
+    /// selected eigenvalues (integer orders) or their refined roots (fractional).
     raw: Vec<Complex64>,
-    next_im: f64,
     /// Complex kernels of the nonlinear iteration: `T`, `T'`, pivots, vectors.
     t: Vec<Complex64>,
     dt: Vec<Complex64>,
@@ -367,8 +370,9 @@ impl Hill {
             signals,
             fractional,
             cands: Vec::with_capacity(big),
+            centres: Vec::with_capacity(big),
+            next_centre: f64::INFINITY,
             raw: Vec::with_capacity(big),
-            next_im: f64::INFINITY,
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
             piv: vec![0; m],
@@ -401,12 +405,11 @@ impl Hill {
     /// The full analysis on the current projections.
     fn full(&mut self, params: &[f64], omega: f64, opts: &StabilityOptions) -> Result<Floquet> {
         self.assemble_polynomial(params, omega, true);
-        self.candidates(omega)?;
+        self.candidates(params, omega)?;
         let tie = 1e-12 * omega;
         let mut refined = true;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.cands.len());
         self.raw.clear();
-        self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
         if self.fractional && opts.refine {
             // The exact (not frozen) polynomial part for the refinement.
             self.assemble_polynomial(params, omega, false);
@@ -416,12 +419,14 @@ impl Hill {
                     continue; // its conjugate is refined
                 }
                 let l = match self.refine(params, omega, c, opts.max_refine_iter) {
-                    Some(l) => fold_into_strip(l, omega),
+                    Some(l) => l,
                     None => {
                         refined = false;
                         c
                     }
                 };
+                self.raw.push(l);
+                let l = fold_into_strip(l, omega);
                 exps.push(l);
                 if l.im.abs() > tie {
                     exps.push(l.conj());
@@ -429,7 +434,8 @@ impl Hill {
             }
             self.cands = cands;
         } else {
-            exps.extend_from_slice(&self.cands);
+            self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
+            exps.extend(self.cands.iter().map(|&c| fold_into_strip(c, omega)));
         }
         Ok(floquet(exps, omega, opts, refined))
     }
@@ -482,18 +488,20 @@ impl Hill {
     }
 
     /// Tracking state from the last full analysis (`self.raw`), if its selection is
-    /// clean: every candidate inside the central strip, every eigenvalue left out
-    /// outside it, and the candidates well separated from each other, their conjugates
-    /// and copies. Otherwise no state (the next point is analysed in full too).
+    /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), every one
+    /// left out off-centre (`≥ 1 - CENTRE_MAX`), `q_max·ndof` of them counted with
+    /// conjugates, and well separated from each other, their conjugates and copies.
+    /// Otherwise no state (the next point is analysed in full too). The polynomial
+    /// part of `T` is the one the full analysis left assembled (exact for fractional
+    /// models: the state holds their refined roots).
     fn start_state(&mut self, params: &[f64], omega: f64) {
         self.state = None;
-        let half = 0.5 * omega;
         let n_out: usize =
             self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
         if self.raw.is_empty()
             || n_out != self.central_count()
-            || self.raw.iter().any(|l| l.im.abs() >= half)
-            || self.next_im < half
+            || self.centres.iter().any(|&c| c > CENTRE_MAX)
+            || self.next_centre < 1.0 - CENTRE_MAX
         {
             return;
         }
@@ -501,13 +509,13 @@ impl Hill {
         if sep.iter().any(|&s| s < MIN_SEPARATION * omega) {
             return;
         }
-        self.assemble_polynomial(params, omega, true);
+        let exact = self.fractional;
         let mut lambdas = Vec::with_capacity(self.raw.len());
         let mut vectors = Vec::with_capacity(self.raw.len());
         let raw = std::mem::take(&mut self.raw);
         for &l0 in &raw {
-            let Some(v) = self.start_vector(params, omega, l0, false) else { break };
-            match self.newton(params, omega, l0, v, 30, true, false) {
+            let Some(v) = self.start_vector(params, omega, l0, exact) else { break };
+            match self.newton(params, omega, l0, v, 30, true, exact) {
                 Some((l, v, _)) if (l - l0).norm() <= 1e-8 * omega.max(l0.norm()) => {
                     lambdas.push(l);
                     vectors.push(v);
@@ -530,7 +538,10 @@ impl Hill {
         opts: &StabilityOptions,
         st: TrackState,
     ) -> Option<Floquet> {
-        self.assemble_polynomial(params, omega, true);
+        // Integer orders: the polynomial; fractional: its integer part, the fractional
+        // signals exact in `eval_t` (the tracked values are the refined roots).
+        let exact = self.fractional;
+        self.assemble_polynomial(params, omega, !exact);
         // Linear predictor in Ω (ratio of the steps, clamped; 1 on the parameter axis).
         let ratio = match &st.prev {
             Some((w0, _)) if (st.omega - w0).abs() > 0.0 && omega != st.omega => {
@@ -547,7 +558,11 @@ impl Hill {
                 None => l,
             };
             let (ln, vn, _) =
-                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, false)?;
+                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact)?;
+            // Still the centred copy (not a jump to a copy of this or another mode).
+            if centre(&vn, self.ndof, self.harmonics).abs() > CENTRE_MAX {
+                return None;
+            }
             // Stay on the real axis / in the upper half plane as before.
             if (l.im == 0.0) != (ln.im == 0.0) || ln.im < 0.0 && l.im > 0.0 {
                 return None;
@@ -561,23 +576,14 @@ impl Hill {
         let sep = separations(&lambdas, omega);
         for (i, &s) in sep.iter().enumerate() {
             let moved = (lambdas[i] - st.lambdas[i]).norm();
-            if s < MIN_SEPARATION * omega || moved > 0.25 * s || lambdas[i].im.abs() >= 0.5 * omega
-            {
+            if s < MIN_SEPARATION * omega || moved > 0.25 * s {
                 return None;
             }
         }
         let tie = 1e-12 * omega;
         let mut exps = Vec::with_capacity(2 * lambdas.len());
-        if self.fractional {
-            // Refine the tracked candidates exactly as the full analysis does.
-            self.assemble_polynomial(params, omega, false);
-        }
         for &c in &lambdas {
-            let l = if self.fractional {
-                fold_into_strip(self.refine(params, omega, c, opts.max_refine_iter)?, omega)
-            } else {
-                c
-            };
+            let l = fold_into_strip(c, omega);
             exps.push(l);
             if l.im.abs() > tie {
                 exps.push(l.conj());
@@ -692,8 +698,8 @@ impl Hill {
         }
     }
 
-    /// Central eigenvalues of the matrix polynomial into `self.cands`.
-    fn candidates(&mut self, omega: f64) -> Result<()> {
+    /// Central eigenvalues of the matrix polynomial into `self.cands` (not folded).
+    fn candidates(&mut self, params: &[f64], omega: f64) -> Result<()> {
         use faer::linalg::lu::partial_pivoting::{factor, solve};
         let (m, d) = (self.m, self.degree);
         let big = d * m;
@@ -712,7 +718,7 @@ impl Hill {
         let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
         self.cands.clear();
         if min_pivot.is_nan() || min_pivot <= 1e-12 * scale {
-            return self.candidates_generalized(omega);
+            return self.candidates_generalized(params, omega);
         }
         // Companion: [[0, I, ...], ..., [-L⁻¹M_0, ..., -L⁻¹M_{d-1}]].
         self.companion.fill(0.0);
@@ -755,12 +761,75 @@ impl Hill {
         for i in 0..big {
             self.cands.push(Complex64::new(self.s_re[i], self.s_im[i]));
         }
-        select_central(&mut self.cands, count, omega);
+        self.select_centred(params, omega, count);
         Ok(())
     }
 
+    /// Keep `count` of the eigenvalues in `self.cands`, one per Floquet exponent: the
+    /// copies whose eigenvectors are centred in harmonic index (module docs, *Which
+    /// copy*), most centred first; among near-equal `|centre|` the larger real part
+    /// first, so that a growing exponent is never the one left out. Values equal
+    /// modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling, `λ` and
+    /// `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
+    /// `self.next_centre` (the smallest `|centre|` left out that is not a copy of a
+    /// kept value, infinite if none).
+    fn select_centred(&mut self, params: &[f64], omega: f64, count: usize) {
+        let tie = 1e-12 * omega;
+        let all = std::mem::take(&mut self.cands);
+        let mut scored: Vec<(Complex64, f64)> = Vec::with_capacity(all.len());
+        for &l in &all {
+            if l.im < -tie {
+                continue; // the conjugate's eigenvector is the conjugate: centre negated
+            }
+            // A real eigenvalue has a real eigenvector: c_{-k} = conj c_k, centre 0.
+            let c = if l.im <= tie { 0.0 } else { self.centre_at(params, omega, l).abs() };
+            scored.push((l, c));
+            if l.im > tie {
+                scored.push((l.conj(), c));
+            }
+        }
+        scored.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let mut start = 0;
+        while start < scored.len() {
+            let base = scored[start].1;
+            let end =
+                start + scored[start..].iter().take_while(|z| z.1 - base <= CENTRE_TIE).count();
+            scored[start..end].sort_by(|a, b| b.0.re.total_cmp(&a.0.re));
+            start = end;
+        }
+        let same_tie = 1e-6 * omega;
+        self.cands.clear();
+        self.centres.clear();
+        self.next_centre = f64::INFINITY;
+        for &(z, c) in &scored {
+            let same = self.cands.iter().any(|k| {
+                let d = (z.im - k.im).rem_euclid(omega);
+                (z.re - k.re).abs() <= same_tie && (d <= same_tie || omega - d <= same_tie)
+            });
+            if same {
+                continue;
+            }
+            if self.cands.len() == count {
+                self.next_centre = c;
+                break;
+            }
+            self.cands.push(z);
+            self.centres.push(c);
+        }
+    }
+
+    /// `centre` of the eigenvector of the polynomial `T` at its eigenvalue `l` (one
+    /// step of inverse iteration; infinite if that fails).
+    fn centre_at(&mut self, params: &[f64], omega: f64, l: Complex64) -> f64 {
+        // An exactly singular factorisation: step off the eigenvalue a little.
+        let v = self
+            .start_vector(params, omega, l, false)
+            .or_else(|| self.start_vector(params, omega, l + 1e-10 * omega.max(l.norm()), false));
+        v.map_or(f64::INFINITY, |v| centre(&v, self.ndof, self.harmonics))
+    }
+
     /// Fallback for a singular leading matrix: the companion pencil, QZ.
-    fn candidates_generalized(&mut self, omega: f64) -> Result<()> {
+    fn candidates_generalized(&mut self, params: &[f64], omega: f64) -> Result<()> {
         let (m, d) = (self.m, self.degree);
         let big = d * m;
         let mut a = Mat::<f64>::zeros(big, big);
@@ -796,7 +865,7 @@ impl Hill {
             }
         }
         let count = (self.cands.len() / self.len).max(1).min(self.cands.len());
-        select_central(&mut self.cands, count, omega);
+        self.select_centred(params, omega, count);
         Ok(())
     }
 
@@ -998,6 +1067,37 @@ impl Hill {
 const TRACK_ITER: usize = 5;
 /// Exponents closer than this (relative to Ω) are not tracked.
 const MIN_SEPARATION: f64 = 1e-6;
+/// A tracked exponent's eigenvector must stay this centred (`|centre|`), and the
+/// eigenvalues a full analysis leaves out at least `1 - CENTRE_MAX` off centre.
+const CENTRE_MAX: f64 = 0.4;
+/// `|centre|` values closer than this are ties in the selection.
+const CENTRE_TIE: f64 = 1e-6;
+
+/// Where the energy of a Hill eigenvector `v` (real basis `[a0, a_k, b_k]` per DOF,
+/// `ndof` blocks, `nh` harmonics) sits in harmonic index: with
+/// `c_{±k} = (a_k ∓ i b_k)/2` the coefficients of `e^{±ikΩt}`,
+/// `Σ_k k |c_k|² / Σ_k |c_k|²` over `-nh..=nh`. Shifting an eigenvalue by `ijΩ`
+/// shifts the centre by `-j`.
+fn centre(v: &[Complex64], ndof: usize, nh: usize) -> f64 {
+    let len = 2 * nh + 1;
+    let i1 = Complex64::new(0.0, 1.0);
+    let (mut num, mut den) = (0.0, 0.0);
+    for d in 0..ndof {
+        let b = &v[d * len..(d + 1) * len];
+        den += b[0].norm_sqr();
+        for k in 1..=nh {
+            let plus = (b[k] - i1 * b[nh + k]).norm_sqr() / 4.0;
+            let minus = (b[k] + i1 * b[nh + k]).norm_sqr() / 4.0;
+            num += k as f64 * (plus - minus);
+            den += plus + minus;
+        }
+    }
+    if den > 0.0 {
+        num / den
+    } else {
+        f64::INFINITY
+    }
+}
 
 /// The verdict on a list of exponents.
 fn floquet(
@@ -1011,23 +1111,18 @@ fn floquet(
     Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined }
 }
 
-/// For each exponent (one per conjugate pair), the distance to the nearest other one
-/// among all exponents, their conjugates and their copies shifted by `±iΩ` (its own
-/// conjugate and copies included: a pair meeting on the real axis or at `±Ω/2`).
+/// For each exponent (one per conjugate pair), the distance modulo `iΩ` to the nearest
+/// other one among all exponents and their conjugates (its own conjugate included: a
+/// pair meeting on the real axis or at `±Ω/2`).
 fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
-    let w = Complex64::new(0.0, omega);
     l.iter()
         .enumerate()
         .map(|(i, &a)| {
             let mut best = f64::INFINITY;
             for (j, &b) in l.iter().enumerate() {
                 for z in [b, b.conj()] {
-                    for shift in [-1.0, 0.0, 1.0] {
-                        let d = (a - z - w * shift).norm();
-                        let itself = j == i && shift == 0.0 && z == a;
-                        if !itself {
-                            best = best.min(d);
-                        }
+                    if !(j == i && z == a) {
+                        best = best.min(fold_into_strip(a - z, omega).norm());
                     }
                 }
             }
@@ -1109,43 +1204,6 @@ fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
 fn fold_into_strip(l: Complex64, omega: f64) -> Complex64 {
     let shift = (l.im / omega).round();
     Complex64::new(l.re, l.im - shift * omega)
-}
-
-/// Keep `count` values with the smallest |Im|, one per exponent: values equal modulo
-/// `iΩ` are the same Floquet exponent (at `|Im λ| = Ω/2`, period doubling, `λ` and
-/// `conj λ = λ - iΩ` both appear), and among near-equal |Im| the larger real part
-/// comes first so that a growing exponent is never the one left out.
-///
-/// Returns the smallest `|Im|` among the values left out that are not copies of kept
-/// ones (infinite if there are none): how far the selection is from changing.
-fn select_central(c: &mut Vec<Complex64>, count: usize, omega: f64) -> f64 {
-    let tie = 1e-6 * omega;
-    c.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()));
-    let mut start = 0;
-    while start < c.len() {
-        let base = c[start].im.abs();
-        let end = start + c[start..].iter().take_while(|z| z.im.abs() - base <= tie).count();
-        c[start..end].sort_by(|a, b| b.re.total_cmp(&a.re));
-        start = end;
-    }
-    let mut kept: Vec<Complex64> = Vec::with_capacity(count);
-    let mut next = f64::INFINITY;
-    for &z in c.iter() {
-        let same = kept.iter().any(|k| {
-            let d = (z.im - k.im).rem_euclid(omega);
-            (z.re - k.re).abs() <= tie && (d <= tie || omega - d <= tie)
-        });
-        if same {
-            continue;
-        }
-        if kept.len() == count {
-            next = z.im.abs();
-            break;
-        }
-        kept.push(z);
-    }
-    *c = kept;
-    next
 }
 
 fn binomial(n: usize, r: usize) -> f64 {
