@@ -245,10 +245,10 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
-    /// `|centre|` of each selected candidate, and the smallest `|centre|` of an
-    /// eigenvalue the selection left out (see [`Hill::select_centred`]).
-    centres: Vec<f64>,
-    next_centre: f64,
+    /// [`Spread`] of each selected candidate's eigenvector, and the smallest spread of
+    /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
+    centres: Vec<Spread>,
+    next_spread: f64,
     /// Exponents of the last full analysis, one per conjugate pair, not folded: the
     /// selected eigenvalues (integer orders) or their refined roots (fractional).
     raw: Vec<Complex64>,
@@ -371,7 +371,7 @@ impl Hill {
             fractional,
             cands: Vec::with_capacity(big),
             centres: Vec::with_capacity(big),
-            next_centre: f64::INFINITY,
+            next_spread: f64::INFINITY,
             raw: Vec::with_capacity(big),
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
@@ -489,7 +489,7 @@ impl Hill {
 
     /// Tracking state from the last full analysis (`self.raw`), if its selection is
     /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), every one
-    /// left out off-centre (`≥ 1 - CENTRE_MAX`), `q_max·ndof` of them counted with
+    /// left out clearly less so (spread larger by `SPREAD_GAP`), `q_max·ndof` of them counted with
     /// conjugates, and well separated from each other, their conjugates and copies.
     /// Otherwise no state (the next point is analysed in full too). The polynomial
     /// part of `T` is the one the full analysis left assembled (exact for fractional
@@ -500,9 +500,10 @@ impl Hill {
             self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
         if self.raw.is_empty()
             || n_out != self.central_count()
-            || self.centres.iter().any(|&c| c > CENTRE_MAX)
-            || self.next_centre < 1.0 - CENTRE_MAX
+            || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
+            || self.centres.iter().any(|c| c.spread + SPREAD_GAP > self.next_spread)
         {
+            eprintln!("DBG start unclean w={omega} n_out={n_out} centres={:?} next={} raw={:?}", self.centres, self.next_spread, self.raw);
             return;
         }
         let sep = separations(&self.raw, omega);
@@ -558,9 +559,10 @@ impl Hill {
                 None => l,
             };
             let (ln, vn, _) =
-                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact)?;
+                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact).or_else(|| { eprintln!("DBG newton w={omega} pred {pred}"); None })?;
             // Still the centred copy (not a jump to a copy of this or another mode).
-            if centre(&vn, self.ndof, self.harmonics).abs() > CENTRE_MAX {
+            if spread(&vn, self.ndof, self.harmonics).centre.abs() > CENTRE_MAX {
+                eprintln!("DBG centre w={omega}");
                 return None;
             }
             // Stay on the real axis / in the upper half plane as before.
@@ -568,6 +570,7 @@ impl Hill {
                 return None;
             }
             if (ln - l).norm() > 0.25 * st.sep[i] {
+                eprintln!("DBG moved-before w={omega} {l} -> {ln} sep {}", st.sep[i]);
                 return None;
             }
             lambdas.push(ln);
@@ -577,6 +580,7 @@ impl Hill {
         for (i, &s) in sep.iter().enumerate() {
             let moved = (lambdas[i] - st.lambdas[i]).norm();
             if s < MIN_SEPARATION * omega || moved > 0.25 * s {
+                eprintln!("DBG moved-after w={omega} sep {s} moved {moved}");
                 return None;
             }
         }
@@ -767,40 +771,39 @@ impl Hill {
 
     /// Keep `count` of the eigenvalues in `self.cands`, one per Floquet exponent: the
     /// copies whose eigenvectors are centred in harmonic index (module docs, *Which
-    /// copy*), most centred first; among near-equal `|centre|` the larger real part
-    /// first, so that a growing exponent is never the one left out. Values equal
-    /// modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling, `λ` and
-    /// `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
-    /// `self.next_centre` (the smallest `|centre|` left out that is not a copy of a
-    /// kept value, infinite if none).
+    /// copy*), smallest [`Spread::spread`] first; among near-equal spreads the larger
+    /// real part first, so that a growing exponent is never the one left out. Values
+    /// equal modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling,
+    /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
+    /// `self.next_spread` (the smallest spread left out that is not a copy of a kept
+    /// value, infinite if none).
     fn select_centred(&mut self, params: &[f64], omega: f64, count: usize) {
         let tie = 1e-12 * omega;
         let all = std::mem::take(&mut self.cands);
-        let mut scored: Vec<(Complex64, f64)> = Vec::with_capacity(all.len());
+        let mut scored: Vec<(Complex64, Spread)> = Vec::with_capacity(all.len());
         for &l in &all {
             if l.im < -tie {
                 continue; // the conjugate's eigenvector is the conjugate: centre negated
             }
-            // A real eigenvalue has a real eigenvector: c_{-k} = conj c_k, centre 0.
-            let c = if l.im <= tie { 0.0 } else { self.centre_at(params, omega, l).abs() };
+            let c = self.spread_at(params, omega, l);
             scored.push((l, c));
             if l.im > tie {
-                scored.push((l.conj(), c));
+                scored.push((l.conj(), Spread { centre: -c.centre, spread: c.spread }));
             }
         }
-        scored.sort_by(|a, b| a.1.total_cmp(&b.1));
+        scored.sort_by(|a, b| a.1.spread.total_cmp(&b.1.spread));
         let mut start = 0;
         while start < scored.len() {
-            let base = scored[start].1;
-            let end =
-                start + scored[start..].iter().take_while(|z| z.1 - base <= CENTRE_TIE).count();
+            let base = scored[start].1.spread;
+            let end = start
+                + scored[start..].iter().take_while(|z| z.1.spread - base <= SPREAD_TIE).count();
             scored[start..end].sort_by(|a, b| b.0.re.total_cmp(&a.0.re));
             start = end;
         }
         let same_tie = 1e-6 * omega;
         self.cands.clear();
         self.centres.clear();
-        self.next_centre = f64::INFINITY;
+        self.next_spread = f64::INFINITY;
         for &(z, c) in &scored {
             let same = self.cands.iter().any(|k| {
                 let d = (z.im - k.im).rem_euclid(omega);
@@ -810,7 +813,7 @@ impl Hill {
                 continue;
             }
             if self.cands.len() == count {
-                self.next_centre = c;
+                self.next_spread = c.spread;
                 break;
             }
             self.cands.push(z);
@@ -818,14 +821,16 @@ impl Hill {
         }
     }
 
-    /// `centre` of the eigenvector of the polynomial `T` at its eigenvalue `l` (one
+    /// [`Spread`] of the eigenvector of the polynomial `T` at its eigenvalue `l` (one
     /// step of inverse iteration; infinite if that fails).
-    fn centre_at(&mut self, params: &[f64], omega: f64, l: Complex64) -> f64 {
+    fn spread_at(&mut self, params: &[f64], omega: f64, l: Complex64) -> Spread {
         // An exactly singular factorisation: step off the eigenvalue a little.
         let v = self
             .start_vector(params, omega, l, false)
             .or_else(|| self.start_vector(params, omega, l + 1e-10 * omega.max(l.norm()), false));
-        v.map_or(f64::INFINITY, |v| centre(&v, self.ndof, self.harmonics))
+        v.map_or(Spread { centre: f64::INFINITY, spread: f64::INFINITY }, |v| {
+            spread(&v, self.ndof, self.harmonics)
+        })
     }
 
     /// Fallback for a singular leading matrix: the companion pencil, QZ.
@@ -1067,35 +1072,52 @@ impl Hill {
 const TRACK_ITER: usize = 5;
 /// Exponents closer than this (relative to Ω) are not tracked.
 const MIN_SEPARATION: f64 = 1e-6;
-/// A tracked exponent's eigenvector must stay this centred (`|centre|`), and the
-/// eigenvalues a full analysis leaves out at least `1 - CENTRE_MAX` off centre.
+/// A tracked exponent's eigenvector must stay this centred (`|centre|`), and so must
+/// every exponent a full analysis selects for tracking to start.
 const CENTRE_MAX: f64 = 0.4;
-/// `|centre|` values closer than this are ties in the selection.
-const CENTRE_TIE: f64 = 1e-6;
+/// For tracking to start, every eigenvalue a full analysis leaves out must have a
+/// spread larger by this than every one it keeps (the next copy of a mode with
+/// `|centre| ≤ 0.4` has a spread larger by `1 - 2|centre| ≥ 0.2`).
+const SPREAD_GAP: f64 = 0.2;
+/// Spreads closer than this are ties in the selection.
+const SPREAD_TIE: f64 = 1e-6;
 
-/// Where the energy of a Hill eigenvector `v` (real basis `[a0, a_k, b_k]` per DOF,
-/// `ndof` blocks, `nh` harmonics) sits in harmonic index: with
-/// `c_{±k} = (a_k ∓ i b_k)/2` the coefficients of `e^{±ikΩt}`,
-/// `Σ_k k |c_k|² / Σ_k |c_k|²` over `-nh..=nh`. Shifting an eigenvalue by `ijΩ`
-/// shifts the centre by `-j`.
-fn centre(v: &[Complex64], ndof: usize, nh: usize) -> f64 {
+/// Where the energy of a Hill eigenvector sits in harmonic index.
+#[derive(Debug, Clone, Copy)]
+struct Spread {
+    /// `Σ_k k |c_k|² / Σ_k |c_k|²`, `c_{±k} = (a_k ∓ i b_k)/2` the coefficients of
+    /// `e^{±ikΩt}`, `k` over `-N..=N`. Shifting the eigenvalue by `ijΩ` shifts it by
+    /// `-j`.
+    centre: f64,
+    /// `Σ_k k² |c_k|² / Σ_k |c_k|²` = variance + centre²: among the copies of one
+    /// exponent (same variance) smallest for the most centred one; unlike the centre,
+    /// it also sees a mixture of far harmonics (`c_4` and `c_{-4}` in equal parts: a
+    /// real eigenvalue always has centre 0) as off centre.
+    spread: f64,
+}
+
+/// [`Spread`] of `v` (real basis `[a0, a_k, b_k]` per DOF, `ndof` blocks, `nh`
+/// harmonics).
+fn spread(v: &[Complex64], ndof: usize, nh: usize) -> Spread {
     let len = 2 * nh + 1;
     let i1 = Complex64::new(0.0, 1.0);
-    let (mut num, mut den) = (0.0, 0.0);
+    let (mut first, mut second, mut den) = (0.0, 0.0, 0.0);
     for d in 0..ndof {
         let b = &v[d * len..(d + 1) * len];
         den += b[0].norm_sqr();
         for k in 1..=nh {
             let plus = (b[k] - i1 * b[nh + k]).norm_sqr() / 4.0;
             let minus = (b[k] + i1 * b[nh + k]).norm_sqr() / 4.0;
-            num += k as f64 * (plus - minus);
+            let k = k as f64;
+            first += k * (plus - minus);
+            second += k * k * (plus + minus);
             den += plus + minus;
         }
     }
     if den > 0.0 {
-        num / den
+        Spread { centre: first / den, spread: second / den }
     } else {
-        f64::INFINITY
+        Spread { centre: f64::INFINITY, spread: f64::INFINITY }
     }
 }
 
@@ -1111,18 +1133,24 @@ fn floquet(
     Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined }
 }
 
-/// For each exponent (one per conjugate pair), the distance modulo `iΩ` to the nearest
-/// other one among all exponents and their conjugates (its own conjugate included: a
-/// pair meeting on the real axis or at `±Ω/2`).
+/// For each exponent (one per conjugate pair, not folded), the distance to the nearest
+/// other one among all exponents, their conjugates and their copies shifted by `±iΩ`
+/// (its own conjugate and copies included: a pair meeting on the real axis or at
+/// `±Ω/2`). Copies shifted further need no margin: an eigenvalue met there has its
+/// eigenvector off centre by at least one, which the centring check sees.
 fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
+    let w = Complex64::new(0.0, omega);
     l.iter()
         .enumerate()
         .map(|(i, &a)| {
             let mut best = f64::INFINITY;
             for (j, &b) in l.iter().enumerate() {
                 for z in [b, b.conj()] {
-                    if !(j == i && z == a) {
-                        best = best.min(fold_into_strip(a - z, omega).norm());
+                    for shift in [-1.0, 0.0, 1.0] {
+                        let itself = j == i && shift == 0.0 && z == a;
+                        if !itself {
+                            best = best.min((a - z - w * shift).norm());
+                        }
                     }
                 }
             }
