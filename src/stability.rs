@@ -503,7 +503,6 @@ impl Hill {
             || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
             || self.centres.iter().any(|c| c.spread + SPREAD_GAP > self.next_spread)
         {
-            eprintln!("DBG start unclean w={omega} n_out={n_out} centres={:?} next={} raw={:?}", self.centres, self.next_spread, self.raw);
             return;
         }
         let sep = separations(&self.raw, omega);
@@ -559,10 +558,9 @@ impl Hill {
                 None => l,
             };
             let (ln, vn, _) =
-                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact).or_else(|| { eprintln!("DBG newton w={omega} pred {pred}"); None })?;
+                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact)?;
             // Still the centred copy (not a jump to a copy of this or another mode).
             if spread(&vn, self.ndof, self.harmonics).centre.abs() > CENTRE_MAX {
-                eprintln!("DBG centre w={omega}");
                 return None;
             }
             // Stay on the real axis / in the upper half plane as before.
@@ -570,7 +568,6 @@ impl Hill {
                 return None;
             }
             if (ln - l).norm() > 0.25 * st.sep[i] {
-                eprintln!("DBG moved-before w={omega} {l} -> {ln} sep {}", st.sep[i]);
                 return None;
             }
             lambdas.push(ln);
@@ -580,7 +577,6 @@ impl Hill {
         for (i, &s) in sep.iter().enumerate() {
             let moved = (lambdas[i] - st.lambdas[i]).norm();
             if s < MIN_SEPARATION * omega || moved > 0.25 * s {
-                eprintln!("DBG moved-after w={omega} sep {s} moved {moved}");
                 return None;
             }
         }
