@@ -24,11 +24,50 @@
 //! `T(0)` *is* that Jacobian. For integer orders `T(λ) = Σ_r λ^r M_r` is a matrix
 //! polynomial (quadratic for mechanical models: mass, damping and stiffness blocks)
 //! and its eigenvalues come from a companion linearisation. Its `ndof·(2N+1)·q_max`
-//! eigenvalues approximate the Floquet exponents and their copies shifted by `ikΩ`;
-//! the `q_max·ndof` with the smallest `|Im λ|` are the *central* exponents
-//! (`|Im λ| ≤ Ω/2`), the ones the truncation resolves best. The solution is
+//! eigenvalues approximate the `q_max·ndof` Floquet exponents and their copies
+//! shifted by `ikΩ`; one copy of each is selected (*Which copy* below) and reported
+//! folded into the strip `|Im λ| ≤ Ω/2` (the *central* exponents). The solution is
 //! asymptotically stable iff every exponent has `Re λ < 0`; we report *unstable* iff
-//! some central exponent has `Re λ > tol·Ω`.
+//! some selected exponent has `Re λ > tol·Ω`.
+//!
+//! # Which copy: eigenvector centring
+//!
+//! In the infinite Hill matrix the copies `λ + ijΩ` of an exponent are exact, their
+//! eigenvectors the same coefficients shifted by `j` harmonics. Truncation at `N`
+//! breaks this: a copy whose eigenvector has energy near harmonic `±N` misses its
+//! neighbours beyond the cut and is inaccurate; the accurate copy is the one whose
+//! eigenvector sits in the middle (Lazarus & Thomas, C. R. Mécanique 338, 2010;
+//! Peletan et al., Nonlinear Dyn. 2013; Guillot et al., J. Comput. Phys. 2020). For an
+//! eigenvector (displacement block, real basis `[a0, a_k, b_k]`) let
+//! `c_{±k} = (a_k ∓ i b_k)/2` be its coefficients of `e^{±ikΩt}`; its *centre* is
+//! `Σ_k k |c_k|² / Σ_k |c_k|²` (`k = -N..N`), and shifting the eigenvalue by `ijΩ`
+//! shifts the centre by `-j`. We rank the eigenvalues by `|centre|` plus the excess of
+//! the variance `Σ_k (k - centre)² |c_k|² / Σ_k |c_k|²` over 1: the copies of one
+//! exponent share the variance, so within them this picks the centred copy; the
+//! excess demotes mixtures of far harmonics (`c_4` and `c_{-4}` in equal parts, the
+//! real eigenvalue of two far copies merged by truncation: centre 0, variance 16) that
+//! the centre alone would take for centred. It does not penalise variance up to 1: at
+//! `N = 1` the real exponent near a fold of the Duffing oscillator has its energy at
+//! `±1` (variance 1) and must win against the `k = 0` block's eigenvalues, which
+//! lack the coupling (ranking by the plain second moment lost that fold's
+//! instability). The `q_max·ndof` eigenvalues of smallest rank are kept, one per
+//! exponent modulo `iΩ`; ties go to the larger real part. The eigenvector of each
+//! eigenvalue comes from one step of inverse iteration on `T(λ)` (half of them: a
+//! conjugate's eigenvector is the conjugate, its centre negated).
+//!
+//! Why not the smallest `|Im λ|` (the rule used before): where `NΩ` is well below a
+//! mode's frequency the truncation does not reach that mode's copies near the real
+//! axis, and the smallest-`|Im|` rule picks two copies of another mode instead — the
+//! quarter car below about 14 rad/s at N = 5 reported two copies of the body mode and
+//! left the wheel mode (77 rad/s) unchecked. Its centred copy (`c_0` dominant, at
+//! `Im λ ≈ 77`) is resolved at any Ω, and `tests/stability_centring.rs` checks the
+//! selected exponents against the 2-DOF linearisation's characteristic roots from 1 to
+//! 100 rad/s. Limits: the criterion presumes a mode's energy concentrated around one
+//! harmonic index; a strongly nonlinear response spreads it (variance ≳ 1) and near
+//! `|centre| = 1/2` two copies are nearly as centred (at period doubling exactly:
+//! `λ` and `conj λ = λ - iΩ` both have `|centre| = 1/2`, the same exponent, one kept).
+//! There the choice between copies is arbitrary; the verdict is not affected as long
+//! as both copies are resolved, which is what `N` must ensure anyway.
 //!
 //! We work in the real basis `[a0, a_k, b_k]` of the harmonic balance: a derivative
 //! of order `q` maps the pair `(a_k, b_k)` of `e^{λt}(a_k cos kθ + b_k sin kθ)` by
@@ -49,7 +88,10 @@
 //! 1. *Frozen order*: replace `(λ + ikΩ)^p` by its value at `λ = 0`, `(ikΩ)^p`
 //!    (zero for `k = 0`, `p > 0`) — exactly the fractional contribution to the harmonic
 //!    balance Jacobian — and solve the resulting polynomial problem as above. Its
-//!    central eigenvalues are the candidates.
+//!    selected (centred) eigenvalues, not folded, are the candidates. The frozen factor
+//!    is exact only at `λ = 0`, so a centred candidate far from the real axis (the
+//!    wheel mode at low Ω) can be off by the fractional term's size; the refinement
+//!    corrects it.
 //! 2. *Refinement*: each candidate (one of each conjugate pair) is refined by nonlinear
 //!    inverse iteration (Ruhe 1973) on the true `T(λ)`:
 //!    `T(λ_k) x = T'(λ_k) v_k`, `λ_{k+1} = λ_k - (uᴴ v_k)/(uᴴ x)`, `v_{k+1} = x/(uᴴ x)`,
@@ -73,58 +115,52 @@
 //! - The frozen-order candidates could in principle miss a growing root of the full
 //!   problem that has no counterpart in the polynomial one (strong fractional terms);
 //!   the refinement only corrects candidates it is given.
-//! - Truncation: the Hill matrix is truncated at `N` harmonics; the central exponents
-//!   converge quickly with `N`, the outer ones are not used. Near a stability boundary
+//! - Truncation: the Hill matrix is truncated at `N` harmonics; the centred copies
+//!   converge quickly with `N`, the others are not used. Near a stability boundary
 //!   the verdict flips at `Re λ = tol·Ω` (default `1e-7·Ω`), not exactly at 0.
 //!
 //! # Tracking along a curve
 //!
 //! [`Hill::analyse`] is dominated by the eigensolve of the `q_max·m × q_max·m`
-//! companion matrix (about 70 % of ~335 µs for the quarter car at N = 5).
-//! [`Hill::track`] reuses the previous point instead. The tracked quantities are the
-//! *candidates*: the selected central eigenvalues of the polynomial problem (exact for
-//! integer orders, frozen-order for fractional ones), one per conjugate pair, with
-//! their eigenvectors. At the next point each is continued by the nonlinear inverse
-//! iteration above on the polynomial `T(λ)` (a linear predictor in Ω from the last two
+//! companion matrix and the inverse iterations of the selection. [`Hill::track`]
+//! reuses the previous point instead: each selected exponent (one per conjugate pair,
+//! not folded; for fractional models the refined root of the true `T(λ)`, not the
+//! frozen candidate) is continued with its eigenvector by the nonlinear inverse
+//! iteration above on the true `T(λ)` (a linear predictor in Ω from the last two
 //! points, the previous eigenvector as start, at most 5 iterations; converged when the
 //! step is below `1e-12·scale`, or below `1e-7·scale` and `1e-3` times the previous
-//! step, so that the quadratic error estimate is below `1e-10·scale`). For fractional
-//! models each continued candidate is then refined on the true `T(λ)` by *the same*
-//! iteration from the same start as in the full analysis, so the reported exponent is
-//! the one the full analysis would report whenever the candidate is.
+//! step, so that the quadratic error estimate is below `1e-10·scale`).
 //!
 //! The full analysis runs instead (and restarts the tracking) when:
 //!
 //! - there is no previous point ([`Hill::reset`]: the continuation calls it at the start
 //!   of every segment and after a fold inside the step), the previous analysis failed or
 //!   a refinement did not converge, or the model is fractional with `refine = false`;
-//! - the last full analysis's selection was not clean: some candidate outside the
-//!   central strip (`|Im λ| ≥ Ω/2`: the truncation does not resolve that mode, the
-//!   smallest-`|Im|` rule then picks copies, and which ones changes with Ω), some
-//!   eigenvalue left out inside it, fewer distinct candidates than `q_max·ndof`
-//!   counted with conjugates, or two closer than `1e-6·Ω`;
+//! - the last full analysis's selection was not clean: some selected eigenvector with
+//!   `|centre| > 0.4`, some eigenvalue left out whose rank is not at least `0.2`
+//!   above every selected one (a copy nearly as centred), a count other than
+//!   `q_max·ndof` with conjugates, or two exponents closer than `1e-6·Ω`;
 //! - Newton does not converge in 5 iterations, leaves the real axis or the upper half
-//!   plane, or a candidate moves by more than a quarter of its separation `sep` (the
-//!   distance to every other candidate, its own conjugate and all their copies shifted
-//!   by `±iΩ`), before or after the step; or it ends within `1e-6·Ω` of another or at
-//!   `|Im λ| ≥ Ω/2`.
+//!   plane, ends on an eigenvector with `|centre| > 0.4`, or an exponent moves by more
+//!   than a quarter of its separation `sep` (the distance to every other exponent, its
+//!   own conjugate and all their copies shifted by `±iΩ`), before or after the step; or
+//!   it ends within `1e-6·Ω` of another.
 //!
-//! Why a crossing cannot be missed in the tracked regime: the selection of the full
-//! analysis (the `q_max·ndof` eigenvalues of smallest `|Im λ|`, one per exponent modulo
-//! `iΩ`) changes only when a selected eigenvalue meets its own conjugate (real axis),
-//! the conjugate of a copy (`Im λ = ±Ω/2`), or another one; the distance to each of
-//! these is in `sep`, and a move of less than `sep/4` per point (checked at both ends)
-//! cannot close it, so the continued candidates are the full analysis's candidates, and
-//! the verdict is computed from the same exponents. Collisions (a pair meeting on the
-//! real axis near a fold, at `±Ω/2` in a period-doubling tongue, two modes meeting at
-//! a torus) shrink `sep` and force the full analysis there. Limits: the rule assumes
-//! that an eigenvalue left out enters the strip only as the copy of a candidate that
-//! leaves it through `±Ω/2` (where `sep` to its conjugate's copy forces a full
-//! analysis); with the frozen fractional order the copies are not exact, so this is an
-//! assumption, not a theorem. Where the truncation leaves a mode unresolved (the quarter
-//! car below about 14 rad/s at N = 5) the selection is unclean and every point is a
-//! full analysis. `tests/stability_tracking.rs` compares every point of curves with
-//! folds, a torus bubble, period doubling and fractional terms.
+//! Why the tracked exponents are the full analysis's: the full analysis keeps, per
+//! exponent, the copy with `|centre| < 1/2`; the continued eigenvector is checked to
+//! stay within `0.4`, so it is still that copy and not a jump to a neighbouring one
+//! (whose centre differs by an integer). Newton can only land on another eigenvalue of
+//! `T`; a copy shifted by `j ≠ 0` is off centre by about `|j|`, which the check sees;
+//! an unshifted other exponent or conjugate, or a copy at `±iΩ` (a pair meeting on the
+//! real axis near a fold, at `±Ω/2` in a period-doubling tongue, two modes meeting at a
+//! torus) shrinks `sep` and forces the full analysis. Limits: this presumes that the
+//! eigenvalues the full analysis leaves out are copies of the selected ones (every
+//! eigenvalue of the truncated problem belongs to one exponent's family), which holds
+//! when the truncation resolves the modes; where a strongly nonlinear response spreads
+//! the eigenvectors (the quarter car with `k3 = 5e6` near its resonances) the selection
+//! is unclean and the points are analysed in full. `tests/stability_tracking.rs`
+//! compares every point of curves with folds, a torus bubble, period doubling and
+//! fractional terms.
 //!
 //! Which exponent crosses classifies a loss of stability: a real one (`Im λ = 0`,
 //! multiplier `+1`: fold or branch point), one at `Im λ = ±Ω/2` (multiplier `-1`:
@@ -440,10 +476,10 @@ impl Hill {
         Ok(floquet(exps, omega, opts, refined))
     }
 
-    /// Like [`Hill::analyse`], but along a curve: the central candidates of the
-    /// previous point are continued to this one by Newton's method on `T(λ) v = 0`
-    /// (from the previous eigenvalue and eigenvector; fractional ones are then refined
-    /// as in the full analysis), and the full analysis runs only when that cannot be
+    /// Like [`Hill::analyse`], but along a curve: the selected exponents of the
+    /// previous point are continued to this one by Newton's method on the true
+    /// `T(λ) v = 0` (from the previous eigenvalue and eigenvector; for fractional models
+    /// the refined roots themselves), and the full analysis runs only when that cannot be
     /// trusted (module docs, *Tracking along a curve*). Call [`Hill::reset`] when the
     /// next point does not continue the previous one (new segment, a fold in between).
     /// The result is the full analysis's, to the iterations' tolerance (`1e-10·Ω`).
@@ -501,7 +537,7 @@ impl Hill {
         if self.raw.is_empty()
             || n_out != self.central_count()
             || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
-            || self.centres.iter().any(|c| c.spread + SPREAD_GAP > self.next_spread)
+            || self.centres.iter().any(|c| c.key() + SPREAD_GAP > self.next_spread)
         {
             return;
         }
@@ -698,7 +734,8 @@ impl Hill {
         }
     }
 
-    /// Central eigenvalues of the matrix polynomial into `self.cands` (not folded).
+    /// Selected (centred) eigenvalues of the matrix polynomial into `self.cands`, not
+    /// folded.
     fn candidates(&mut self, params: &[f64], omega: f64) -> Result<()> {
         use faer::linalg::lu::partial_pivoting::{factor, solve};
         let (m, d) = (self.m, self.degree);
@@ -787,12 +824,12 @@ impl Hill {
                 scored.push((l.conj(), Spread { centre: -c.centre, spread: c.spread }));
             }
         }
-        scored.sort_by(|a, b| a.1.spread.total_cmp(&b.1.spread));
+        scored.sort_by(|a, b| a.1.key().total_cmp(&b.1.key()));
         let mut start = 0;
         while start < scored.len() {
-            let base = scored[start].1.spread;
+            let base = scored[start].1.key();
             let end = start
-                + scored[start..].iter().take_while(|z| z.1.spread - base <= SPREAD_TIE).count();
+                + scored[start..].iter().take_while(|z| z.1.key() - base <= SPREAD_TIE).count();
             scored[start..end].sort_by(|a, b| b.0.re.total_cmp(&a.0.re));
             start = end;
         }
@@ -809,7 +846,7 @@ impl Hill {
                 continue;
             }
             if self.cands.len() == count {
-                self.next_spread = c.spread;
+                self.next_spread = c.key();
                 break;
             }
             self.cands.push(z);
@@ -1090,6 +1127,21 @@ struct Spread {
     /// it also sees a mixture of far harmonics (`c_4` and `c_{-4}` in equal parts: a
     /// real eigenvalue always has centre 0) as off centre.
     spread: f64,
+}
+
+impl Spread {
+    /// The selection's ranking key: `|centre|`, plus the variance in excess of 1. A
+    /// mode's copies differ only in the centre (same variance), so within one exponent
+    /// this is `|centre|`; the excess only demotes eigenvectors spread over harmonics
+    /// further apart than `±1` around their centre, such as the real eigenvalues of
+    /// far copies merged by truncation (energy at `±4`: centre 0, variance 16), which
+    /// the centre alone would take for centred. Variance up to 1 is not penalised: a
+    /// real exponent near a fold at `N = 1` has its energy at `±1` (variance 1) and is
+    /// the best representative there.
+    fn key(&self) -> f64 {
+        let variance = self.spread - self.centre * self.centre;
+        self.centre.abs() + (variance - 1.0).max(0.0)
+    }
 }
 
 /// [`Spread`] of `v` (real basis `[a0, a_k, b_k]` per DOF, `ndof` blocks, `nh`

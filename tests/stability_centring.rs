@@ -50,8 +50,7 @@ fn dist_mod(a: Complex64, b: Complex64, omega: f64) -> f64 {
 /// relative effect of the cubic spring: `3 k3 max|y|² / k1`.
 fn exponents(q: &QuarterCar, omega: f64) -> (Vec<Complex64>, f64) {
     let n = 5;
-    let sol =
-        solve(q, omega, &SolveOptions { harmonics: n, ..Default::default() }, None).unwrap();
+    let sol = solve(q, omega, &SolveOptions { harmonics: n, ..Default::default() }, None).unwrap();
     let len = 2 * n + 1;
     let ymax: f64 = (0..len).map(|i| (sol.coeffs[i] - sol.coeffs[len + i]).abs()).sum();
     let mut bal = Balance::new(q, n).unwrap();
