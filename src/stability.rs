@@ -281,10 +281,10 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
-    /// [`Spread`] of each selected candidate's eigenvector, and the smallest spread of
+    /// [`Spread`] of each selected candidate's eigenvector, and the smallest rank of
     /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
     centres: Vec<Spread>,
-    next_spread: f64,
+    next_rank: f64,
     /// Exponents of the last full analysis, one per conjugate pair, not folded: the
     /// selected eigenvalues (integer orders) or their refined roots (fractional).
     raw: Vec<Complex64>,
@@ -407,7 +407,7 @@ impl Hill {
             fractional,
             cands: Vec::with_capacity(big),
             centres: Vec::with_capacity(big),
-            next_spread: f64::INFINITY,
+            next_rank: f64::INFINITY,
             raw: Vec::with_capacity(big),
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
@@ -525,8 +525,8 @@ impl Hill {
 
     /// Tracking state from the last full analysis (`self.raw`), if its selection is
     /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), every one
-    /// left out clearly less so (spread larger by `SPREAD_GAP`), `q_max·ndof` of them counted with
-    /// conjugates, and well separated from each other, their conjugates and copies.
+    /// left out clearly less so (rank larger by `RANK_GAP`), `q_max·ndof` of them
+    /// counted with conjugates, and well separated from each other, their conjugates and copies.
     /// Otherwise no state (the next point is analysed in full too). The polynomial
     /// part of `T` is the one the full analysis left assembled (exact for fractional
     /// models: the state holds their refined roots).
@@ -537,7 +537,7 @@ impl Hill {
         if self.raw.is_empty()
             || n_out != self.central_count()
             || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
-            || self.centres.iter().any(|c| c.key() + SPREAD_GAP > self.next_spread)
+            || self.centres.iter().any(|c| c.key() + RANK_GAP > self.next_rank)
         {
             return;
         }
@@ -804,11 +804,11 @@ impl Hill {
 
     /// Keep `count` of the eigenvalues in `self.cands`, one per Floquet exponent: the
     /// copies whose eigenvectors are centred in harmonic index (module docs, *Which
-    /// copy*), smallest [`Spread::spread`] first; among near-equal spreads the larger
+    /// copy*), smallest rank ([`Spread::key`]) first; among near-equal ranks the larger
     /// real part first, so that a growing exponent is never the one left out. Values
     /// equal modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling,
     /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
-    /// `self.next_spread` (the smallest spread left out that is not a copy of a kept
+    /// `self.next_rank` (the smallest rank left out that is not a copy of a kept
     /// value, infinite if none).
     fn select_centred(&mut self, params: &[f64], omega: f64, count: usize) {
         let tie = 1e-12 * omega;
@@ -828,15 +828,15 @@ impl Hill {
         let mut start = 0;
         while start < scored.len() {
             let base = scored[start].1.key();
-            let end = start
-                + scored[start..].iter().take_while(|z| z.1.key() - base <= SPREAD_TIE).count();
+            let end =
+                start + scored[start..].iter().take_while(|z| z.1.key() - base <= RANK_TIE).count();
             scored[start..end].sort_by(|a, b| b.0.re.total_cmp(&a.0.re));
             start = end;
         }
         let same_tie = 1e-6 * omega;
         self.cands.clear();
         self.centres.clear();
-        self.next_spread = f64::INFINITY;
+        self.next_rank = f64::INFINITY;
         for &(z, c) in &scored {
             let same = self.cands.iter().any(|k| {
                 let d = (z.im - k.im).rem_euclid(omega);
@@ -846,7 +846,7 @@ impl Hill {
                 continue;
             }
             if self.cands.len() == count {
-                self.next_spread = c.key();
+                self.next_rank = c.key();
                 break;
             }
             self.cands.push(z);
@@ -1108,12 +1108,12 @@ const MIN_SEPARATION: f64 = 1e-6;
 /// A tracked exponent's eigenvector must stay this centred (`|centre|`), and so must
 /// every exponent a full analysis selects for tracking to start.
 const CENTRE_MAX: f64 = 0.4;
-/// For tracking to start, every eigenvalue a full analysis leaves out must have a
-/// spread larger by this than every one it keeps (the next copy of a mode with
-/// `|centre| ≤ 0.4` has a spread larger by `1 - 2|centre| ≥ 0.2`).
-const SPREAD_GAP: f64 = 0.2;
-/// Spreads closer than this are ties in the selection.
-const SPREAD_TIE: f64 = 1e-6;
+/// For tracking to start, every eigenvalue a full analysis leaves out must rank
+/// ([`Spread::key`]) higher by this than every one it keeps (the next copy of a mode
+/// with `|centre| ≤ 0.4` has `|centre|` larger by `1 - 2|centre| ≥ 0.2`).
+const RANK_GAP: f64 = 0.2;
+/// Ranks closer than this are ties in the selection.
+const RANK_TIE: f64 = 1e-6;
 
 /// Where the energy of a Hill eigenvector sits in harmonic index.
 #[derive(Debug, Clone, Copy)]
