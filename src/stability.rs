@@ -24,11 +24,50 @@
 //! `T(0)` *is* that Jacobian. For integer orders `T(λ) = Σ_r λ^r M_r` is a matrix
 //! polynomial (quadratic for mechanical models: mass, damping and stiffness blocks)
 //! and its eigenvalues come from a companion linearisation. Its `ndof·(2N+1)·q_max`
-//! eigenvalues approximate the Floquet exponents and their copies shifted by `ikΩ`;
-//! the `q_max·ndof` with the smallest `|Im λ|` are the *central* exponents
-//! (`|Im λ| ≤ Ω/2`), the ones the truncation resolves best. The solution is
+//! eigenvalues approximate the `q_max·ndof` Floquet exponents and their copies
+//! shifted by `ikΩ`; one copy of each is selected (*Which copy* below) and reported
+//! folded into the strip `|Im λ| ≤ Ω/2` (the *central* exponents). The solution is
 //! asymptotically stable iff every exponent has `Re λ < 0`; we report *unstable* iff
-//! some central exponent has `Re λ > tol·Ω`.
+//! some selected exponent has `Re λ > tol·Ω`.
+//!
+//! # Which copy: eigenvector centring
+//!
+//! In the infinite Hill matrix the copies `λ + ijΩ` of an exponent are exact, their
+//! eigenvectors the same coefficients shifted by `j` harmonics. Truncation at `N`
+//! breaks this: a copy whose eigenvector has energy near harmonic `±N` misses its
+//! neighbours beyond the cut and is inaccurate; the accurate copy is the one whose
+//! eigenvector sits in the middle (Lazarus & Thomas, C. R. Mécanique 338, 2010;
+//! Peletan et al., Nonlinear Dyn. 2013; Guillot et al., J. Comput. Phys. 2020). For an
+//! eigenvector (displacement block, real basis `[a0, a_k, b_k]`) let
+//! `c_{±k} = (a_k ∓ i b_k)/2` be its coefficients of `e^{±ikΩt}`; its *centre* is
+//! `Σ_k k |c_k|² / Σ_k |c_k|²` (`k = -N..N`), and shifting the eigenvalue by `ijΩ`
+//! shifts the centre by `-j`. We rank the eigenvalues by `|centre|` plus the excess of
+//! the variance `Σ_k (k - centre)² |c_k|² / Σ_k |c_k|²` over 1: the copies of one
+//! exponent share the variance, so within them this picks the centred copy; the
+//! excess demotes mixtures of far harmonics (`c_4` and `c_{-4}` in equal parts, the
+//! real eigenvalue of two far copies merged by truncation: centre 0, variance 16) that
+//! the centre alone would take for centred. It does not penalise variance up to 1: at
+//! `N = 1` the real exponent near a fold of the Duffing oscillator has its energy at
+//! `±1` (variance 1) and must win against the `k = 0` block's eigenvalues, which
+//! lack the coupling (ranking by the plain second moment lost that fold's
+//! instability). The `q_max·ndof` eigenvalues of smallest rank are kept, one per
+//! exponent modulo `iΩ`; ties go to the larger real part. The eigenvector of each
+//! eigenvalue comes from one step of inverse iteration on `T(λ)` (half of them: a
+//! conjugate's eigenvector is the conjugate, its centre negated).
+//!
+//! Why not the smallest `|Im λ|` (the rule used before): where `NΩ` is well below a
+//! mode's frequency the truncation does not reach that mode's copies near the real
+//! axis, and the smallest-`|Im|` rule picks two copies of another mode instead — the
+//! quarter car below about 14 rad/s at N = 5 reported two copies of the body mode and
+//! left the wheel mode (77 rad/s) unchecked. Its centred copy (`c_0` dominant, at
+//! `Im λ ≈ 77`) is resolved at any Ω, and `tests/stability_centring.rs` checks the
+//! selected exponents against the 2-DOF linearisation's characteristic roots from 1 to
+//! 100 rad/s. Limits: the criterion presumes a mode's energy concentrated around one
+//! harmonic index; a strongly nonlinear response spreads it (variance ≳ 1) and near
+//! `|centre| = 1/2` two copies are nearly as centred (at period doubling exactly:
+//! `λ` and `conj λ = λ - iΩ` both have `|centre| = 1/2`, the same exponent, one kept).
+//! There the choice between copies is arbitrary; the verdict is not affected as long
+//! as both copies are resolved, which is what `N` must ensure anyway.
 //!
 //! We work in the real basis `[a0, a_k, b_k]` of the harmonic balance: a derivative
 //! of order `q` maps the pair `(a_k, b_k)` of `e^{λt}(a_k cos kθ + b_k sin kθ)` by
@@ -49,7 +88,10 @@
 //! 1. *Frozen order*: replace `(λ + ikΩ)^p` by its value at `λ = 0`, `(ikΩ)^p`
 //!    (zero for `k = 0`, `p > 0`) — exactly the fractional contribution to the harmonic
 //!    balance Jacobian — and solve the resulting polynomial problem as above. Its
-//!    central eigenvalues are the candidates.
+//!    selected (centred) eigenvalues, not folded, are the candidates. The frozen factor
+//!    is exact only at `λ = 0`, so a centred candidate far from the real axis (the
+//!    wheel mode at low Ω) can be off by the fractional term's size; the refinement
+//!    corrects it.
 //! 2. *Refinement*: each candidate (one of each conjugate pair) is refined by nonlinear
 //!    inverse iteration (Ruhe 1973) on the true `T(λ)`:
 //!    `T(λ_k) x = T'(λ_k) v_k`, `λ_{k+1} = λ_k - (uᴴ v_k)/(uᴴ x)`, `v_{k+1} = x/(uᴴ x)`,
@@ -73,58 +115,52 @@
 //! - The frozen-order candidates could in principle miss a growing root of the full
 //!   problem that has no counterpart in the polynomial one (strong fractional terms);
 //!   the refinement only corrects candidates it is given.
-//! - Truncation: the Hill matrix is truncated at `N` harmonics; the central exponents
-//!   converge quickly with `N`, the outer ones are not used. Near a stability boundary
+//! - Truncation: the Hill matrix is truncated at `N` harmonics; the centred copies
+//!   converge quickly with `N`, the others are not used. Near a stability boundary
 //!   the verdict flips at `Re λ = tol·Ω` (default `1e-7·Ω`), not exactly at 0.
 //!
 //! # Tracking along a curve
 //!
 //! [`Hill::analyse`] is dominated by the eigensolve of the `q_max·m × q_max·m`
-//! companion matrix (about 70 % of ~335 µs for the quarter car at N = 5).
-//! [`Hill::track`] reuses the previous point instead. The tracked quantities are the
-//! *candidates*: the selected central eigenvalues of the polynomial problem (exact for
-//! integer orders, frozen-order for fractional ones), one per conjugate pair, with
-//! their eigenvectors. At the next point each is continued by the nonlinear inverse
-//! iteration above on the polynomial `T(λ)` (a linear predictor in Ω from the last two
+//! companion matrix and the inverse iterations of the selection. [`Hill::track`]
+//! reuses the previous point instead: each selected exponent (one per conjugate pair,
+//! not folded; for fractional models the refined root of the true `T(λ)`, not the
+//! frozen candidate) is continued with its eigenvector by the nonlinear inverse
+//! iteration above on the true `T(λ)` (a linear predictor in Ω from the last two
 //! points, the previous eigenvector as start, at most 5 iterations; converged when the
 //! step is below `1e-12·scale`, or below `1e-7·scale` and `1e-3` times the previous
-//! step, so that the quadratic error estimate is below `1e-10·scale`). For fractional
-//! models each continued candidate is then refined on the true `T(λ)` by *the same*
-//! iteration from the same start as in the full analysis, so the reported exponent is
-//! the one the full analysis would report whenever the candidate is.
+//! step, so that the quadratic error estimate is below `1e-10·scale`).
 //!
 //! The full analysis runs instead (and restarts the tracking) when:
 //!
 //! - there is no previous point ([`Hill::reset`]: the continuation calls it at the start
 //!   of every segment and after a fold inside the step), the previous analysis failed or
 //!   a refinement did not converge, or the model is fractional with `refine = false`;
-//! - the last full analysis's selection was not clean: some candidate outside the
-//!   central strip (`|Im λ| ≥ Ω/2`: the truncation does not resolve that mode, the
-//!   smallest-`|Im|` rule then picks copies, and which ones changes with Ω), some
-//!   eigenvalue left out inside it, fewer distinct candidates than `q_max·ndof`
-//!   counted with conjugates, or two closer than `1e-6·Ω`;
+//! - the last full analysis's selection was not clean: some selected eigenvector with
+//!   `|centre| > 0.4`, some eigenvalue left out whose rank is not at least `0.2`
+//!   above every selected one (a copy nearly as centred), a count other than
+//!   `q_max·ndof` with conjugates, or two exponents closer than `1e-6·Ω`;
 //! - Newton does not converge in 5 iterations, leaves the real axis or the upper half
-//!   plane, or a candidate moves by more than a quarter of its separation `sep` (the
-//!   distance to every other candidate, its own conjugate and all their copies shifted
-//!   by `±iΩ`), before or after the step; or it ends within `1e-6·Ω` of another or at
-//!   `|Im λ| ≥ Ω/2`.
+//!   plane, ends on an eigenvector with `|centre| > 0.4`, or an exponent moves by more
+//!   than a quarter of its separation `sep` (the distance to every other exponent, its
+//!   own conjugate and all their copies shifted by `±iΩ`), before or after the step; or
+//!   it ends within `1e-6·Ω` of another.
 //!
-//! Why a crossing cannot be missed in the tracked regime: the selection of the full
-//! analysis (the `q_max·ndof` eigenvalues of smallest `|Im λ|`, one per exponent modulo
-//! `iΩ`) changes only when a selected eigenvalue meets its own conjugate (real axis),
-//! the conjugate of a copy (`Im λ = ±Ω/2`), or another one; the distance to each of
-//! these is in `sep`, and a move of less than `sep/4` per point (checked at both ends)
-//! cannot close it, so the continued candidates are the full analysis's candidates, and
-//! the verdict is computed from the same exponents. Collisions (a pair meeting on the
-//! real axis near a fold, at `±Ω/2` in a period-doubling tongue, two modes meeting at
-//! a torus) shrink `sep` and force the full analysis there. Limits: the rule assumes
-//! that an eigenvalue left out enters the strip only as the copy of a candidate that
-//! leaves it through `±Ω/2` (where `sep` to its conjugate's copy forces a full
-//! analysis); with the frozen fractional order the copies are not exact, so this is an
-//! assumption, not a theorem. Where the truncation leaves a mode unresolved (the quarter
-//! car below about 14 rad/s at N = 5) the selection is unclean and every point is a
-//! full analysis. `tests/stability_tracking.rs` compares every point of curves with
-//! folds, a torus bubble, period doubling and fractional terms.
+//! Why the tracked exponents are the full analysis's: the full analysis keeps, per
+//! exponent, the copy with `|centre| < 1/2`; the continued eigenvector is checked to
+//! stay within `0.4`, so it is still that copy and not a jump to a neighbouring one
+//! (whose centre differs by an integer). Newton can only land on another eigenvalue of
+//! `T`; a copy shifted by `j ≠ 0` is off centre by about `|j|`, which the check sees;
+//! an unshifted other exponent or conjugate, or a copy at `±iΩ` (a pair meeting on the
+//! real axis near a fold, at `±Ω/2` in a period-doubling tongue, two modes meeting at a
+//! torus) shrinks `sep` and forces the full analysis. Limits: this presumes that the
+//! eigenvalues the full analysis leaves out are copies of the selected ones (every
+//! eigenvalue of the truncated problem belongs to one exponent's family), which holds
+//! when the truncation resolves the modes; where a strongly nonlinear response spreads
+//! the eigenvectors (the quarter car with `k3 = 5e6` near its resonances) the selection
+//! is unclean and the points are analysed in full. `tests/stability_tracking.rs`
+//! compares every point of curves with folds, a torus bubble, period doubling and
+//! fractional terms.
 //!
 //! Which exponent crosses classifies a loss of stability: a real one (`Im λ = 0`,
 //! multiplier `+1`: fold or branch point), one at `Im λ = ±Ω/2` (multiplier `-1`:
@@ -245,10 +281,13 @@ pub struct Hill {
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
     cands: Vec<Complex64>,
-    /// Candidates of the last full analysis, one per conjugate pair, and the smallest
-    /// `|Im|` of an eigenvalue it left out.
+    /// [`Spread`] of each selected candidate's eigenvector, and the smallest rank of
+    /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
+    centres: Vec<Spread>,
+    next_rank: f64,
+    /// Exponents of the last full analysis, one per conjugate pair, not folded: the
+    /// selected eigenvalues (integer orders) or their refined roots (fractional).
     raw: Vec<Complex64>,
-    next_im: f64,
     /// Complex kernels of the nonlinear iteration: `T`, `T'`, pivots, vectors.
     t: Vec<Complex64>,
     dt: Vec<Complex64>,
@@ -367,8 +406,9 @@ impl Hill {
             signals,
             fractional,
             cands: Vec::with_capacity(big),
+            centres: Vec::with_capacity(big),
+            next_rank: f64::INFINITY,
             raw: Vec::with_capacity(big),
-            next_im: f64::INFINITY,
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
             piv: vec![0; m],
@@ -401,12 +441,11 @@ impl Hill {
     /// The full analysis on the current projections.
     fn full(&mut self, params: &[f64], omega: f64, opts: &StabilityOptions) -> Result<Floquet> {
         self.assemble_polynomial(params, omega, true);
-        self.candidates(omega)?;
+        self.candidates(params, omega)?;
         let tie = 1e-12 * omega;
         let mut refined = true;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.cands.len());
         self.raw.clear();
-        self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
         if self.fractional && opts.refine {
             // The exact (not frozen) polynomial part for the refinement.
             self.assemble_polynomial(params, omega, false);
@@ -416,12 +455,14 @@ impl Hill {
                     continue; // its conjugate is refined
                 }
                 let l = match self.refine(params, omega, c, opts.max_refine_iter) {
-                    Some(l) => fold_into_strip(l, omega),
+                    Some(l) => l,
                     None => {
                         refined = false;
                         c
                     }
                 };
+                self.raw.push(l);
+                let l = fold_into_strip(l, omega);
                 exps.push(l);
                 if l.im.abs() > tie {
                     exps.push(l.conj());
@@ -429,15 +470,16 @@ impl Hill {
             }
             self.cands = cands;
         } else {
-            exps.extend_from_slice(&self.cands);
+            self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
+            exps.extend(self.cands.iter().map(|&c| fold_into_strip(c, omega)));
         }
         Ok(floquet(exps, omega, opts, refined))
     }
 
-    /// Like [`Hill::analyse`], but along a curve: the central candidates of the
-    /// previous point are continued to this one by Newton's method on `T(λ) v = 0`
-    /// (from the previous eigenvalue and eigenvector; fractional ones are then refined
-    /// as in the full analysis), and the full analysis runs only when that cannot be
+    /// Like [`Hill::analyse`], but along a curve: the selected exponents of the
+    /// previous point are continued to this one by Newton's method on the true
+    /// `T(λ) v = 0` (from the previous eigenvalue and eigenvector; for fractional models
+    /// the refined roots themselves), and the full analysis runs only when that cannot be
     /// trusted (module docs, *Tracking along a curve*). Call [`Hill::reset`] when the
     /// next point does not continue the previous one (new segment, a fold in between).
     /// The result is the full analysis's, to the iterations' tolerance (`1e-10·Ω`).
@@ -482,18 +524,20 @@ impl Hill {
     }
 
     /// Tracking state from the last full analysis (`self.raw`), if its selection is
-    /// clean: every candidate inside the central strip, every eigenvalue left out
-    /// outside it, and the candidates well separated from each other, their conjugates
-    /// and copies. Otherwise no state (the next point is analysed in full too).
+    /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), every one
+    /// left out clearly less so (rank larger by `RANK_GAP`), `q_max·ndof` of them
+    /// counted with conjugates, and well separated from each other, their conjugates and copies.
+    /// Otherwise no state (the next point is analysed in full too). The polynomial
+    /// part of `T` is the one the full analysis left assembled (exact for fractional
+    /// models: the state holds their refined roots).
     fn start_state(&mut self, params: &[f64], omega: f64) {
         self.state = None;
-        let half = 0.5 * omega;
         let n_out: usize =
             self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
         if self.raw.is_empty()
             || n_out != self.central_count()
-            || self.raw.iter().any(|l| l.im.abs() >= half)
-            || self.next_im < half
+            || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
+            || self.centres.iter().any(|c| c.key() + RANK_GAP > self.next_rank)
         {
             return;
         }
@@ -501,13 +545,13 @@ impl Hill {
         if sep.iter().any(|&s| s < MIN_SEPARATION * omega) {
             return;
         }
-        self.assemble_polynomial(params, omega, true);
+        let exact = self.fractional;
         let mut lambdas = Vec::with_capacity(self.raw.len());
         let mut vectors = Vec::with_capacity(self.raw.len());
         let raw = std::mem::take(&mut self.raw);
         for &l0 in &raw {
-            let Some(v) = self.start_vector(params, omega, l0, false) else { break };
-            match self.newton(params, omega, l0, v, 30, true, false) {
+            let Some(v) = self.start_vector(params, omega, l0, exact) else { break };
+            match self.newton(params, omega, l0, v, 30, true, exact) {
                 Some((l, v, _)) if (l - l0).norm() <= 1e-8 * omega.max(l0.norm()) => {
                     lambdas.push(l);
                     vectors.push(v);
@@ -530,7 +574,10 @@ impl Hill {
         opts: &StabilityOptions,
         st: TrackState,
     ) -> Option<Floquet> {
-        self.assemble_polynomial(params, omega, true);
+        // Integer orders: the polynomial; fractional: its integer part, the fractional
+        // signals exact in `eval_t` (the tracked values are the refined roots).
+        let exact = self.fractional;
+        self.assemble_polynomial(params, omega, !exact);
         // Linear predictor in Ω (ratio of the steps, clamped; 1 on the parameter axis).
         let ratio = match &st.prev {
             Some((w0, _)) if (st.omega - w0).abs() > 0.0 && omega != st.omega => {
@@ -547,7 +594,11 @@ impl Hill {
                 None => l,
             };
             let (ln, vn, _) =
-                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, false)?;
+                self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact)?;
+            // Still the centred copy (not a jump to a copy of this or another mode).
+            if spread(&vn, self.ndof, self.harmonics).centre.abs() > CENTRE_MAX {
+                return None;
+            }
             // Stay on the real axis / in the upper half plane as before.
             if (l.im == 0.0) != (ln.im == 0.0) || ln.im < 0.0 && l.im > 0.0 {
                 return None;
@@ -561,23 +612,14 @@ impl Hill {
         let sep = separations(&lambdas, omega);
         for (i, &s) in sep.iter().enumerate() {
             let moved = (lambdas[i] - st.lambdas[i]).norm();
-            if s < MIN_SEPARATION * omega || moved > 0.25 * s || lambdas[i].im.abs() >= 0.5 * omega
-            {
+            if s < MIN_SEPARATION * omega || moved > 0.25 * s {
                 return None;
             }
         }
         let tie = 1e-12 * omega;
         let mut exps = Vec::with_capacity(2 * lambdas.len());
-        if self.fractional {
-            // Refine the tracked candidates exactly as the full analysis does.
-            self.assemble_polynomial(params, omega, false);
-        }
         for &c in &lambdas {
-            let l = if self.fractional {
-                fold_into_strip(self.refine(params, omega, c, opts.max_refine_iter)?, omega)
-            } else {
-                c
-            };
+            let l = fold_into_strip(c, omega);
             exps.push(l);
             if l.im.abs() > tie {
                 exps.push(l.conj());
@@ -692,8 +734,9 @@ impl Hill {
         }
     }
 
-    /// Central eigenvalues of the matrix polynomial into `self.cands`.
-    fn candidates(&mut self, omega: f64) -> Result<()> {
+    /// Selected (centred) eigenvalues of the matrix polynomial into `self.cands`, not
+    /// folded.
+    fn candidates(&mut self, params: &[f64], omega: f64) -> Result<()> {
         use faer::linalg::lu::partial_pivoting::{factor, solve};
         let (m, d) = (self.m, self.degree);
         let big = d * m;
@@ -712,7 +755,7 @@ impl Hill {
         let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
         self.cands.clear();
         if min_pivot.is_nan() || min_pivot <= 1e-12 * scale {
-            return self.candidates_generalized(omega);
+            return self.candidates_generalized(params, omega);
         }
         // Companion: [[0, I, ...], ..., [-L⁻¹M_0, ..., -L⁻¹M_{d-1}]].
         self.companion.fill(0.0);
@@ -755,12 +798,76 @@ impl Hill {
         for i in 0..big {
             self.cands.push(Complex64::new(self.s_re[i], self.s_im[i]));
         }
-        select_central(&mut self.cands, count, omega);
+        self.select_centred(params, omega, count);
         Ok(())
     }
 
+    /// Keep `count` of the eigenvalues in `self.cands`, one per Floquet exponent: the
+    /// copies whose eigenvectors are centred in harmonic index (module docs, *Which
+    /// copy*), smallest rank ([`Spread::key`]) first; among near-equal ranks the larger
+    /// real part first, so that a growing exponent is never the one left out. Values
+    /// equal modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling,
+    /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
+    /// `self.next_rank` (the smallest rank left out that is not a copy of a kept
+    /// value, infinite if none).
+    fn select_centred(&mut self, params: &[f64], omega: f64, count: usize) {
+        let tie = 1e-12 * omega;
+        let all = std::mem::take(&mut self.cands);
+        let mut scored: Vec<(Complex64, Spread)> = Vec::with_capacity(all.len());
+        for &l in &all {
+            if l.im < -tie {
+                continue; // the conjugate's eigenvector is the conjugate: centre negated
+            }
+            let c = self.spread_at(params, omega, l);
+            scored.push((l, c));
+            if l.im > tie {
+                scored.push((l.conj(), Spread { centre: -c.centre, spread: c.spread }));
+            }
+        }
+        scored.sort_by(|a, b| a.1.key().total_cmp(&b.1.key()));
+        let mut start = 0;
+        while start < scored.len() {
+            let base = scored[start].1.key();
+            let end =
+                start + scored[start..].iter().take_while(|z| z.1.key() - base <= RANK_TIE).count();
+            scored[start..end].sort_by(|a, b| b.0.re.total_cmp(&a.0.re));
+            start = end;
+        }
+        let same_tie = 1e-6 * omega;
+        self.cands.clear();
+        self.centres.clear();
+        self.next_rank = f64::INFINITY;
+        for &(z, c) in &scored {
+            let same = self.cands.iter().any(|k| {
+                let d = (z.im - k.im).rem_euclid(omega);
+                (z.re - k.re).abs() <= same_tie && (d <= same_tie || omega - d <= same_tie)
+            });
+            if same {
+                continue;
+            }
+            if self.cands.len() == count {
+                self.next_rank = c.key();
+                break;
+            }
+            self.cands.push(z);
+            self.centres.push(c);
+        }
+    }
+
+    /// [`Spread`] of the eigenvector of the polynomial `T` at its eigenvalue `l` (one
+    /// step of inverse iteration; infinite if that fails).
+    fn spread_at(&mut self, params: &[f64], omega: f64, l: Complex64) -> Spread {
+        // An exactly singular factorisation: step off the eigenvalue a little.
+        let v = self
+            .start_vector(params, omega, l, false)
+            .or_else(|| self.start_vector(params, omega, l + 1e-10 * omega.max(l.norm()), false));
+        v.map_or(Spread { centre: f64::INFINITY, spread: f64::INFINITY }, |v| {
+            spread(&v, self.ndof, self.harmonics)
+        })
+    }
+
     /// Fallback for a singular leading matrix: the companion pencil, QZ.
-    fn candidates_generalized(&mut self, omega: f64) -> Result<()> {
+    fn candidates_generalized(&mut self, params: &[f64], omega: f64) -> Result<()> {
         let (m, d) = (self.m, self.degree);
         let big = d * m;
         let mut a = Mat::<f64>::zeros(big, big);
@@ -796,7 +903,7 @@ impl Hill {
             }
         }
         let count = (self.cands.len() / self.len).max(1).min(self.cands.len());
-        select_central(&mut self.cands, count, omega);
+        self.select_centred(params, omega, count);
         Ok(())
     }
 
@@ -998,6 +1105,69 @@ impl Hill {
 const TRACK_ITER: usize = 5;
 /// Exponents closer than this (relative to Ω) are not tracked.
 const MIN_SEPARATION: f64 = 1e-6;
+/// A tracked exponent's eigenvector must stay this centred (`|centre|`), and so must
+/// every exponent a full analysis selects for tracking to start.
+const CENTRE_MAX: f64 = 0.4;
+/// For tracking to start, every eigenvalue a full analysis leaves out must rank
+/// ([`Spread::key`]) higher by this than every one it keeps (the next copy of a mode
+/// with `|centre| ≤ 0.4` has `|centre|` larger by `1 - 2|centre| ≥ 0.2`).
+const RANK_GAP: f64 = 0.2;
+/// Ranks closer than this are ties in the selection.
+const RANK_TIE: f64 = 1e-6;
+
+/// Where the energy of a Hill eigenvector sits in harmonic index.
+#[derive(Debug, Clone, Copy)]
+struct Spread {
+    /// `Σ_k k |c_k|² / Σ_k |c_k|²`, `c_{±k} = (a_k ∓ i b_k)/2` the coefficients of
+    /// `e^{±ikΩt}`, `k` over `-N..=N`. Shifting the eigenvalue by `ijΩ` shifts it by
+    /// `-j`.
+    centre: f64,
+    /// `Σ_k k² |c_k|² / Σ_k |c_k|²` = variance + centre²: among the copies of one
+    /// exponent (same variance) smallest for the most centred one; unlike the centre,
+    /// it also sees a mixture of far harmonics (`c_4` and `c_{-4}` in equal parts: a
+    /// real eigenvalue always has centre 0) as off centre.
+    spread: f64,
+}
+
+impl Spread {
+    /// The selection's ranking key: `|centre|`, plus the variance in excess of 1. A
+    /// mode's copies differ only in the centre (same variance), so within one exponent
+    /// this is `|centre|`; the excess only demotes eigenvectors spread over harmonics
+    /// further apart than `±1` around their centre, such as the real eigenvalues of
+    /// far copies merged by truncation (energy at `±4`: centre 0, variance 16), which
+    /// the centre alone would take for centred. Variance up to 1 is not penalised: a
+    /// real exponent near a fold at `N = 1` has its energy at `±1` (variance 1) and is
+    /// the best representative there.
+    fn key(&self) -> f64 {
+        let variance = self.spread - self.centre * self.centre;
+        self.centre.abs() + (variance - 1.0).max(0.0)
+    }
+}
+
+/// [`Spread`] of `v` (real basis `[a0, a_k, b_k]` per DOF, `ndof` blocks, `nh`
+/// harmonics).
+fn spread(v: &[Complex64], ndof: usize, nh: usize) -> Spread {
+    let len = 2 * nh + 1;
+    let i1 = Complex64::new(0.0, 1.0);
+    let (mut first, mut second, mut den) = (0.0, 0.0, 0.0);
+    for d in 0..ndof {
+        let b = &v[d * len..(d + 1) * len];
+        den += b[0].norm_sqr();
+        for k in 1..=nh {
+            let plus = (b[k] - i1 * b[nh + k]).norm_sqr() / 4.0;
+            let minus = (b[k] + i1 * b[nh + k]).norm_sqr() / 4.0;
+            let k = k as f64;
+            first += k * (plus - minus);
+            second += k * k * (plus + minus);
+            den += plus + minus;
+        }
+    }
+    if den > 0.0 {
+        Spread { centre: first / den, spread: second / den }
+    } else {
+        Spread { centre: f64::INFINITY, spread: f64::INFINITY }
+    }
+}
 
 /// The verdict on a list of exponents.
 fn floquet(
@@ -1011,9 +1181,11 @@ fn floquet(
     Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined }
 }
 
-/// For each exponent (one per conjugate pair), the distance to the nearest other one
-/// among all exponents, their conjugates and their copies shifted by `±iΩ` (its own
-/// conjugate and copies included: a pair meeting on the real axis or at `±Ω/2`).
+/// For each exponent (one per conjugate pair, not folded), the distance to the nearest
+/// other one among all exponents, their conjugates and their copies shifted by `±iΩ`
+/// (its own conjugate and copies included: a pair meeting on the real axis or at
+/// `±Ω/2`). Copies shifted further need no margin: an eigenvalue met there has its
+/// eigenvector off centre by at least one, which the centring check sees.
 fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
     let w = Complex64::new(0.0, omega);
     l.iter()
@@ -1023,10 +1195,9 @@ fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
             for (j, &b) in l.iter().enumerate() {
                 for z in [b, b.conj()] {
                     for shift in [-1.0, 0.0, 1.0] {
-                        let d = (a - z - w * shift).norm();
                         let itself = j == i && shift == 0.0 && z == a;
                         if !itself {
-                            best = best.min(d);
+                            best = best.min((a - z - w * shift).norm());
                         }
                     }
                 }
@@ -1109,43 +1280,6 @@ fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
 fn fold_into_strip(l: Complex64, omega: f64) -> Complex64 {
     let shift = (l.im / omega).round();
     Complex64::new(l.re, l.im - shift * omega)
-}
-
-/// Keep `count` values with the smallest |Im|, one per exponent: values equal modulo
-/// `iΩ` are the same Floquet exponent (at `|Im λ| = Ω/2`, period doubling, `λ` and
-/// `conj λ = λ - iΩ` both appear), and among near-equal |Im| the larger real part
-/// comes first so that a growing exponent is never the one left out.
-///
-/// Returns the smallest `|Im|` among the values left out that are not copies of kept
-/// ones (infinite if there are none): how far the selection is from changing.
-fn select_central(c: &mut Vec<Complex64>, count: usize, omega: f64) -> f64 {
-    let tie = 1e-6 * omega;
-    c.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()));
-    let mut start = 0;
-    while start < c.len() {
-        let base = c[start].im.abs();
-        let end = start + c[start..].iter().take_while(|z| z.im.abs() - base <= tie).count();
-        c[start..end].sort_by(|a, b| b.re.total_cmp(&a.re));
-        start = end;
-    }
-    let mut kept: Vec<Complex64> = Vec::with_capacity(count);
-    let mut next = f64::INFINITY;
-    for &z in c.iter() {
-        let same = kept.iter().any(|k| {
-            let d = (z.im - k.im).rem_euclid(omega);
-            (z.re - k.re).abs() <= tie && (d <= tie || omega - d <= tie)
-        });
-        if same {
-            continue;
-        }
-        if kept.len() == count {
-            next = z.im.abs();
-            break;
-        }
-        kept.push(z);
-    }
-    *c = kept;
-    next
 }
 
 fn binomial(n: usize, r: usize) -> f64 {

@@ -32,7 +32,7 @@ pub fn compare<M: Model>(model: &M, curve: &Curve, n: usize) -> TrackCounts {
             t.exponents,
             f.exponents
         );
-        assert_eq!(t.exponents.len(), f.exponents.len(), "point {i}");
+        assert_eq!(t.exponents.len(), f.exponents.len(), "point {i} Ω = {} {t:?} {f:?}", p.omega);
         assert_eq!(
             t.leading_crossing(p.omega),
             f.leading_crossing(p.omega),
