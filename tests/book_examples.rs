@@ -15,7 +15,8 @@ mod sweep_plot;
 
 #[test]
 fn sweep_plot_example_writes_its_files() {
-    let dir = std::env::temp_dir().join(format!("ihbm-sweep-plot-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("ihbm-sweep-plot-{}", std::process::id()));
     let folds = sweep_plot::run(&dir).unwrap();
     // a hardening curve with this forcing folds twice
     assert_eq!(folds.len(), 2, "{folds:?}");

@@ -7,7 +7,8 @@ use proptest::prelude::*;
 /// Tests here may write files named by random arguments (`--json 1`): keep them in a
 /// scratch directory.
 fn scratch() {
-    let dir = std::env::temp_dir().join(format!("ihbm-proptest-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("ihbm-proptest-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::env::set_current_dir(&dir).unwrap();
 }
