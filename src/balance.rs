@@ -417,7 +417,7 @@ impl<'m, M: Model> Balance<'m, M> {
                 let g = &self.grad[(e * nsig + s) * m..][..m];
                 let lam = &self.lam[s * (self.n + 1)..][..self.n + 1];
                 let g0 = g[0];
-                if g.iter().all(|&x| x == g0) {
+                if self.affine[s] || g.iter().all(|&x| x == g0) {
                     // a linear term: multiplication by a constant is diagonal
                     if g0 != 0.0 {
                         for &(d, c) in sig.terms {

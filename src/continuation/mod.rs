@@ -761,7 +761,6 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             if self.tr.correct(&mut y, &e_n, target).is_err() {
                 continue;
             }
-            self.tr.set_point(&y);
             let (_, _, _, outputs) = self.point_at(&y);
             for (j, o) in jumps[l.jump..].iter_mut().take(nout).zip(&outputs) {
                 j.to = o.max_abs;
