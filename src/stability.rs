@@ -1021,7 +1021,17 @@ impl Hill {
         Some(v)
     }
 
-    /// Nonlinear inverse iteration from the candidate `l0`; `None` if it fails.
+    /// Nonlinear inverse iteration from the candidate `l0`, then re-centring: the root
+    /// it reaches is returned only if its eigenvector is centred (`|centre| ≤ 1/2`);
+    /// otherwise it is a copy `λ - ijΩ` of the centred root (centre near `j`), and the
+    /// iteration is restarted from `λ + ijΩ`. `None` if it fails.
+    ///
+    /// Why: the frozen candidate of a mode whose fractional damping is large (the body
+    /// and wheel modes of the quarter car, whose `k = 0` block has no damping at all
+    /// when frozen) is off the true root by more than `Ω/2` at low Ω, and Newton then
+    /// converges to whichever copy is nearest. That copy is a root of the truncated
+    /// `T(λ)` too, but a less accurate one, and tracking from it would leave the
+    /// centred copy at the first step.
     fn refine(
         &mut self,
         params: &[f64],
@@ -1029,9 +1039,26 @@ impl Hill {
         l0: Complex64,
         max_iter: usize,
     ) -> Option<Complex64> {
-        let v = self.start_vector(params, omega, l0, true)?;
-        // `self.t` holds the LU of T(l0) from the start vector: the first step reuses it.
-        self.newton(params, omega, l0, v, max_iter, true, true).map(|(l, _, _)| l)
+        let tie = 1e-12 * omega;
+        let mut start = l0;
+        for _ in 0..RECENTRE_TRIES {
+            let v = self.start_vector(params, omega, start, true)?;
+            // `self.t` holds the LU of T(start) from the start vector: the first step
+            // reuses it.
+            let (mut l, mut v, _) =
+                self.newton(params, omega, start, v, max_iter, true, true)?;
+            if l.im < -tie {
+                // One per conjugate pair, in the upper half plane.
+                l = l.conj();
+                v.iter_mut().for_each(|x| *x = x.conj());
+            }
+            let c = spread(&v, self.ndof, self.harmonics).centre;
+            if c.abs() <= 0.5 {
+                return Some(l);
+            }
+            start = l + Complex64::new(0.0, c.round() * omega);
+        }
+        None
     }
 
     /// Nonlinear inverse iteration (Ruhe 1973) on `T(λ) v = 0` from `(l0, v)`, `v` of
@@ -1112,6 +1139,8 @@ const CENTRE_MAX: f64 = 0.4;
 /// ([`Spread::key`]) higher by this than every one it keeps (the next copy of a mode
 /// with `|centre| ≤ 0.4` has `|centre|` larger by `1 - 2|centre| ≥ 0.2`).
 const RANK_GAP: f64 = 0.2;
+/// Restarts of a fractional refinement that lands on an off-centre copy.
+const RECENTRE_TRIES: usize = 3;
 /// Ranks closer than this are ties in the selection.
 const RANK_TIE: f64 = 1e-6;
 
