@@ -369,9 +369,17 @@ impl<'m, M: Model> Balance<'m, M> {
         self.project(r);
     }
 
-    /// The residual `r` and its Jacobian `∂R/∂A` (written, not accumulated).
-    pub fn jacobian(&mut self, a: &[f64], omega: f64, r: &mut [f64], mut jac: MatMut<'_, f64>) {
+    /// The signal gradients `∂r_e/∂s` at every sample ([`Balance::gradients`]) without
+    /// the Jacobian: what the stability analysis needs.
+    pub fn signal_gradients(&mut self, a: &[f64], omega: f64) {
         self.fill_signals(a, omega);
+        self.gradient_pass(omega, false);
+    }
+
+    /// Fill `self.grad` (signals filled): one dual pass per signal that is not affine,
+    /// one sample for an affine one. With `want_r`, the residual samples from the
+    /// first pass into `self.res`; `false` if no pass gave them.
+    fn gradient_pass(&mut self, omega: f64, want_r: bool) -> bool {
         for (d, &p) in self.d_params.iter_mut().zip(&self.params) {
             *d = Dual64::from_re(p);
         }
@@ -397,19 +405,27 @@ impl<'m, M: Model> Balance<'m, M> {
                 self.seed_sample(j, s0, omega);
                 for e in 0..self.ndof {
                     self.grad[(e * nsig + s0) * m + j] = self.d_out[e].eps;
-                    if !have_r {
+                    if want_r && !have_r {
                         self.res[e * m + j] = self.d_out[e].re;
                     }
                 }
             }
-            have_r = true;
+            have_r = want_r;
         }
-        if have_r {
+        self.grad_valid = true;
+        have_r
+    }
+
+    /// The residual `r` and its Jacobian `∂R/∂A` (written, not accumulated).
+    pub fn jacobian(&mut self, a: &[f64], omega: f64, r: &mut [f64], mut jac: MatMut<'_, f64>) {
+        self.fill_signals(a, omega);
+        let (m, nsig) = (self.m, self.nsig);
+        if self.gradient_pass(omega, true) {
             self.project(r);
         } else {
             self.residual(a, omega, r);
+            self.grad_valid = true;
         }
-        self.grad_valid = true;
         jac.fill(0.0);
         let signals = self.model.signals();
         for e in 0..self.ndof {
@@ -577,7 +593,7 @@ fn add_diagonal_block(
 /// `ext` (scratch, `4N + 1`) receives `ĝ_m` for `m = -2N..=2N` (`ĝ_{-m} = conj ĝ_m`,
 /// `g` being real), so the inner loop reads two contiguous runs.
 #[allow(clippy::too_many_arguments)]
-fn add_block(
+pub(crate) fn add_block(
     mut jac: MatMut<'_, f64>,
     n: usize,
     e: usize,

@@ -259,18 +259,19 @@ pub struct Hill {
     samples: usize,
     /// Highest integer order, the degree of the matrix polynomial.
     degree: usize,
-    /// `phi[s * len + l]`: basis function l at sample s.
-    phi: Vec<f64>,
-    /// Galerkin weights per basis function (1/M for the constant, 2/M otherwise).
-    weight: Vec<f64>,
     /// Projection matrices `P[g_{e,j}]`, row-major len×len, index (e * nsig + j).
     proj: Vec<f64>,
-    r: Vec<f64>,
-    jac: Mat<f64>,
+    /// Gradient spectrum `ĝ_m`, `m = 0..=2N`, and the scratch of the block formula.
+    ghat: Vec<Complex64>,
+    ext: Vec<Complex64>,
     /// Constant gradient of each projection (`P = g0·I`), if it is one.
     diag: Vec<Option<f64>>,
     /// `M_0 .. M_degree`, row-major `m × m`.
     coef: Vec<Vec<f64>>,
+    /// Nonzero entries `(index, value)` of `M_1 .. M_degree` (index `r - 1`): mass and
+    /// damping terms are usually linear, their blocks diagonal in the harmonics, and
+    /// `T(λ)` is then `M_0` plus a few entries (see [`Hill::eval_t`]).
+    sparse: Vec<Vec<(usize, f64)>>,
     companion: Mat<f64>,
     lead: Mat<f64>,
     s_re: Vec<f64>,
@@ -349,18 +350,6 @@ impl Hill {
             })
             .collect();
         let degree = degree.max(1);
-        let mut phi = vec![0.0; samples * len];
-        for s in 0..samples {
-            let th = 2.0 * std::f64::consts::PI * s as f64 / samples as f64;
-            phi[s * len] = 1.0;
-            for k in 1..=harmonics {
-                let (sn, cs) = (k as f64 * th).sin_cos();
-                phi[s * len + k] = cs;
-                phi[s * len + harmonics + k] = sn;
-            }
-        }
-        let mut weight = vec![2.0 / samples as f64; len];
-        weight[0] = 1.0 / samples as f64;
         let neq = ndof;
         let nsig = signals.len();
         let big = degree * m;
@@ -389,13 +378,12 @@ impl Hill {
             m,
             samples,
             degree,
-            phi,
-            weight,
             proj: vec![0.0; neq * nsig * len * len],
-            r: vec![0.0; m],
-            jac: Mat::zeros(m, m),
+            ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
+            ext: vec![Complex64::new(0.0, 0.0); 4 * harmonics + 1],
             diag: vec![None; neq * nsig],
             coef: (0..=degree).map(|_| vec![0.0; m * m]).collect(),
+            sparse: (0..degree).map(|_| Vec::with_capacity(m * m)).collect(),
             companion: Mat::zeros(big, big),
             lead: Mat::zeros(m, m),
             s_re: vec![0.0; big],
@@ -630,14 +618,18 @@ impl Hill {
         Some(floquet(exps, omega, opts, true))
     }
 
-    /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution.
+    /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution:
+    /// from the gradients' spectra `ĝ_m`, `m ≤ 2N`, by the harmonic balance Jacobian's
+    /// own block formula with unit spectral factors (the same samples, so the same
+    /// projection as a direct quadrature of `g φ_l φ_k`, at `O(N²)` instead of
+    /// `O(M N²)`).
     fn project<M: Model>(
         &mut self,
         bal: &mut Balance<'_, M>,
         coeffs: &[f64],
         omega: f64,
     ) -> Result<()> {
-        let (len, ns) = (self.len, self.samples);
+        let (len, ns, nh) = (self.len, self.samples, self.harmonics);
         let nsig = self.signals.len();
         if bal.samples() != ns || bal.len() != self.m {
             return Err(Error::Other(format!(
@@ -648,34 +640,23 @@ impl Hill {
                 bal.len()
             )));
         }
-        bal.jacobian(coeffs, omega, &mut self.r, self.jac.as_mut());
-        let grads = bal.gradients();
+        bal.signal_gradients(coeffs, omega);
+        let ones = vec![Complex64::new(1.0, 0.0); nh + 1];
         for e in 0..self.ndof {
             for j in 0..nsig {
                 let idx = e * nsig + j;
-                let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
-                let g = &grads[idx * ns..][..ns];
+                let g = &bal.gradients()[idx * ns..][..ns];
                 if g.iter().all(|&x| x == g[0]) {
                     // A linear term: multiplication by a constant projects to g0·I.
                     self.diag[idx] = Some(g[0]);
                     continue;
                 }
                 self.diag[idx] = None;
+                bal.gradient_spectrum(e, j, &mut self.ghat);
+                let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
                 p.fill(0.0);
-                for s in 0..ns {
-                    let g = g[s];
-                    if g == 0.0 {
-                        continue;
-                    }
-                    let row = &self.phi[s * len..(s + 1) * len];
-                    for l in 0..len {
-                        let gl = g * row[l] * self.weight[l];
-                        let pl = &mut p[l * len..(l + 1) * len];
-                        for (pk, &fk) in pl.iter_mut().zip(row) {
-                            *pk += gl * fk;
-                        }
-                    }
-                }
+                let view = faer::MatMut::from_row_major_slice_mut(p, len, len);
+                crate::balance::add_block(view, nh, 0, 0, 1.0, &self.ghat, &mut self.ext, &ones);
             }
         }
         Ok(())
@@ -731,6 +712,10 @@ impl Hill {
                     }
                 }
             }
+        }
+        for (nz, c) in self.sparse.iter_mut().zip(&self.coef[1..]) {
+            nz.clear();
+            nz.extend(c.iter().enumerate().filter(|z| *z.1 != 0.0).map(|(i, &x)| (i, x)));
         }
     }
 
@@ -922,7 +907,7 @@ impl Hill {
             dpw[r] = if r == 0 { zero } else { pw[r - 1] * r as f64 };
             p *= lambda;
         }
-        // Row-major sweeps, one coefficient matrix at a time (vectorisable).
+        // M_0 in full, the higher coefficients by their nonzero entries.
         if want_t {
             for (t, &c) in self.t.iter_mut().zip(&self.coef[0]) {
                 *t = Complex64::new(c, 0.0);
@@ -931,15 +916,11 @@ impl Hill {
         self.dt.fill(zero);
         for r in 1..=d {
             let (p, dp) = (pw[r], dpw[r]);
-            if want_t {
-                for ((t, dt), &c) in self.t.iter_mut().zip(self.dt.iter_mut()).zip(&self.coef[r]) {
-                    *t += p * c;
-                    *dt += dp * c;
+            for &(i, c) in &self.sparse[r - 1] {
+                if want_t {
+                    self.t[i] += p * c;
                 }
-            } else {
-                for (dt, &c) in self.dt.iter_mut().zip(&self.coef[r]) {
-                    *dt += dp * c;
-                }
+                self.dt[i] += dp * c;
             }
         }
         if !(self.fractional && exact) {
@@ -1067,6 +1048,15 @@ impl Hill {
     /// `1e-7·scale` and `1e-3` times the previous one (quadratic convergence observed:
     /// the remaining error is then below `1e-10·scale`). `factored`: `self.t` already
     /// holds the LU of `T(l0)`. The root, its unit eigenvector and the iterations.
+    ///
+    /// After each step the next one is first tried without a factorisation: with `w`
+    /// from one adjoint inverse iteration on the factors at hand (`T(λ_k)ᴴ w = u`, close
+    /// to the left eigenvector as `λ_k` is close to the root), the two-sided Rayleigh
+    /// functional step `δ = wᴴT(λ)v / wᴴT'(λ)v` (Ostrowski; Schreiber 2008) is the Newton
+    /// step on the scalar `wᴴT(λ)v = 0`, and its error is of the order of the product of
+    /// the errors of `v` and `w`, both first order in `λ_k`'s. It is accepted under the
+    /// same rule as a full step; otherwise the full step follows, with `T(λ)` already
+    /// assembled. Along a curve this saves the second factorisation of most points.
     #[allow(clippy::too_many_arguments)] // the iteration's inputs, no natural grouping
     fn newton(
         &mut self,
@@ -1080,16 +1070,19 @@ impl Hill {
     ) -> Option<(Complex64, Vec<Complex64>, usize)> {
         let m = self.m;
         let u = v.clone();
+        let mut w = vec![Complex64::new(0.0, 0.0); m];
         let mut lambda = l0;
         let scale = omega.max(l0.norm());
         let mut last = f64::INFINITY;
+        // `self.t`, `self.dt` hold T(λ), T'(λ) (not factored) for the current λ.
+        let mut assembled = false;
+        let done = |s: f64, last: f64| s <= 1e-12 * scale || (s <= 1e-7 * scale && s <= 1e-3 * last);
         for it in 0..max_iter {
             let reuse = factored && it == 0;
-            self.eval_t(params, omega, lambda, exact, !reuse);
-            for i in 0..m {
-                let row = &self.dt[i * m..(i + 1) * m];
-                self.x[i] = row.iter().zip(&v).map(|(a, b)| a * b).sum();
+            if !assembled {
+                self.eval_t(params, omega, lambda, exact, !reuse);
             }
+            mat_vec(&self.dt, &v, &mut self.x);
             let solved = if reuse {
                 lu_apply(&self.t, m, &self.piv, &mut self.x);
                 true
@@ -1114,8 +1107,7 @@ impl Hill {
             }
             let s = step.norm();
             // Quadratic convergence: the next error is about s²/last ≤ 1e-3·s.
-            let done = s <= 1e-12 * scale || (s <= 1e-7 * scale && s <= 1e-3 * last);
-            if done {
+            if done(s, last) {
                 if lambda == Complex64::new(0.0, 0.0) {
                     return None;
                 }
@@ -1123,6 +1115,25 @@ impl Hill {
                 return Some((lambda, v, it + 1));
             }
             last = s;
+            // The Rayleigh step at the new λ: w from the factors of T(λ_k) first (the
+            // assembly below overwrites them).
+            w.copy_from_slice(&u);
+            lu_apply_adjoint(&self.t, m, &self.piv, &mut w);
+            self.eval_t(params, omega, lambda, exact, true);
+            assembled = true;
+            mat_vec(&self.t, &v, &mut self.x);
+            let wr: Complex64 = w.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
+            mat_vec(&self.dt, &v, &mut self.x);
+            let wd: Complex64 = w.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
+            let delta = wr / wd;
+            if delta.re.is_finite() && delta.im.is_finite() && done(delta.norm(), last) {
+                lambda -= delta;
+                if lambda == Complex64::new(0.0, 0.0) {
+                    return None;
+                }
+                normalise(&mut v)?;
+                return Some((lambda, v, it + 1));
+            }
         }
         None
     }
@@ -1305,6 +1316,32 @@ fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
     }
 }
 
+/// Solve `Aᴴ w = b` with the factors and swaps of `A` left by [`lu_solve`]
+/// (`P A = L U`, so `Aᴴ = Uᴴ Lᴴ P`).
+fn lu_apply_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
+    for k in 0..n {
+        let s: Complex64 = (0..k).map(|i| a[i * n + k].conj() * b[i]).sum();
+        b[k] = (b[k] - s) / a[k * n + k].conj();
+    }
+    for k in (0..n).rev() {
+        let bk = b[k];
+        for i in 0..k {
+            b[i] -= a[k * n + i].conj() * bk;
+        }
+    }
+    for (k, &p) in piv.iter().enumerate().take(n).rev() {
+        b.swap(k, p);
+    }
+}
+
+/// `y = A x`, `A` row-major `n × n`.
+fn mat_vec(a: &[Complex64], x: &[Complex64], y: &mut [Complex64]) {
+    let n = x.len();
+    for (yi, row) in y.iter_mut().zip(a.chunks_exact(n)) {
+        *yi = row.iter().zip(x).map(|(p, q)| p * q).sum();
+    }
+}
+
 /// Exponents are defined modulo `iΩ`; bring one into `(-Ω/2, Ω/2]`.
 fn fold_into_strip(l: Complex64, omega: f64) -> Complex64 {
     let shift = (l.im / omega).round();
@@ -1422,6 +1459,13 @@ mod tests {
             assert!((ci - yi).norm() < 1e-12, "{ci} vs {yi}");
         }
         assert!(piv.iter().enumerate().filter(|&(k, &p)| p != k).count() >= 2, "{piv:?}");
+        // And the adjoint system Aᴴ y = d (the Rayleigh step in `newton`).
+        let mut d: Vec<Complex64> =
+            (0..n).map(|i| (0..n).map(|j| a[j * n + i].conj() * y[j]).sum()).collect();
+        lu_apply_adjoint(&lu, n, &piv, &mut d);
+        for (di, yi) in d.iter().zip(&y) {
+            assert!((di - yi).norm() < 1e-12, "{di} vs {yi}");
+        }
     }
 
     #[test]
@@ -1437,5 +1481,52 @@ mod tests {
         add_product(&mut dense, m, 7, 0, 1.5, &p, len, nh, ab);
         add_diag(&mut diag, m, 7, 0, 1.5 * g, nh, ab);
         assert_eq!(dense, diag);
+    }
+
+    #[test]
+    fn spectral_projection_equals_the_sample_quadrature() {
+        // P[g]_{lk} = w_l Σ_s φ_l(θ_s) g(θ_s) φ_k(θ_s), directly, against `project` on
+        // the cubic spring's gradients of the Duffing oscillator and the quarter car
+        // (M samples, fewer than 4N + 1 for the Duffing oscillator at N = 5).
+        use crate::corrector::{solve, SolveOptions};
+        use crate::models::{Duffing, QuarterCar};
+        fn check<M: Model>(model: &M, omega: f64) {
+            let nh = 5;
+            let sol = solve(model, omega, &SolveOptions { harmonics: nh, ..Default::default() }, None)
+                .unwrap();
+            let mut bal = Balance::new(model, nh).unwrap();
+            let mut hill = Hill::new(model, nh).unwrap();
+            hill.project(&mut bal, &sol.coeffs, omega).unwrap();
+            let (len, ns) = (hill.len, hill.samples);
+            let mut nonconstant = 0;
+            for (idx, d) in hill.diag.iter().enumerate() {
+                if d.is_some() {
+                    continue;
+                }
+                nonconstant += 1;
+                let g = &bal.gradients()[idx * ns..][..ns];
+                let phi = |s: usize, l: usize| {
+                    let th = 2.0 * std::f64::consts::PI * s as f64 / ns as f64;
+                    match l {
+                        0 => 1.0,
+                        l if l <= nh => (l as f64 * th).cos(),
+                        l => ((l - nh) as f64 * th).sin(),
+                    }
+                };
+                let p = &hill.proj[idx * len * len..][..len * len];
+                let big = g.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+                for l in 0..len {
+                    let w = if l == 0 { 1.0 } else { 2.0 } / ns as f64;
+                    for k in 0..len {
+                        let q: f64 = (0..ns).map(|s| w * phi(s, l) * g[s] * phi(s, k)).sum();
+                        let d = (p[l * len + k] - q).abs();
+                        assert!(d <= 1e-13 * big, "{idx} ({l},{k}): {} vs {q}", p[l * len + k]);
+                    }
+                }
+            }
+            assert!(nonconstant > 0);
+        }
+        check(&Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 }, 0.9);
+        check(&QuarterCar { k3: 5e6, F: 0.03, ..Default::default() }, 10.0);
     }
 }
