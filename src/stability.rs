@@ -1026,8 +1026,7 @@ impl Hill {
             let v = self.start_vector(params, omega, start, true)?;
             // `self.t` holds the LU of T(start) from the start vector: the first step
             // reuses it.
-            let (mut l, mut v, _) =
-                self.newton(params, omega, start, v, max_iter, true, true)?;
+            let (mut l, mut v, _) = self.newton(params, omega, start, v, max_iter, true, true)?;
             if l.im < -tie {
                 // One per conjugate pair, in the upper half plane.
                 l = l.conj();
@@ -1076,7 +1075,8 @@ impl Hill {
         let mut last = f64::INFINITY;
         // `self.t`, `self.dt` hold T(λ), T'(λ) (not factored) for the current λ.
         let mut assembled = false;
-        let done = |s: f64, last: f64| s <= 1e-12 * scale || (s <= 1e-7 * scale && s <= 1e-3 * last);
+        let done =
+            |s: f64, last: f64| s <= 1e-12 * scale || (s <= 1e-7 * scale && s <= 1e-3 * last);
         for it in 0..max_iter {
             let reuse = factored && it == 0;
             if !assembled {
@@ -1492,8 +1492,9 @@ mod tests {
         use crate::models::{Duffing, QuarterCar};
         fn check<M: Model>(model: &M, omega: f64) {
             let nh = 5;
-            let sol = solve(model, omega, &SolveOptions { harmonics: nh, ..Default::default() }, None)
-                .unwrap();
+            let sol =
+                solve(model, omega, &SolveOptions { harmonics: nh, ..Default::default() }, None)
+                    .unwrap();
             let mut bal = Balance::new(model, nh).unwrap();
             let mut hill = Hill::new(model, nh).unwrap();
             hill.project(&mut bal, &sol.coeffs, omega).unwrap();
