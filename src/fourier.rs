@@ -143,7 +143,8 @@ fn eval_d2(coeffs: &[f64], theta: f64) -> (f64, f64, f64) {
 /// extremum (closer than a quarter of the shortest period, so Newton on `x'(θ) = 0`
 /// started there converges to it). Only grid maxima that could still beat the best
 /// grid value are polished: between grid points `|x|` exceeds its grid value by at
-/// most `B h²/8` with `B = Σ k² |c_k| ≥ |x''|`.
+/// most `B h²/8` with `B = Σ k² |c_k| ≥ |x''|`. For many calls with one `N`, keep a
+/// [`MaxAbs`] (its grid table is computed once).
 ///
 /// ```
 /// use ihbm::fourier::max_abs;
@@ -151,66 +152,103 @@ fn eval_d2(coeffs: &[f64], theta: f64) -> (f64, f64, f64) {
 /// assert!((max_abs(&[0.0, 3.0, 4.0]) - 5.0).abs() < 1e-12);
 /// ```
 pub fn max_abs(coeffs: &[f64]) -> f64 {
-    let n = (coeffs.len() - 1) / 2;
-    if n == 0 {
-        return coeffs[0].abs();
-    }
-    let grid = 8 * (n + 1);
-    let h = 2.0 * PI / grid as f64;
-    // values on the grid by rotating (cos θ, sin θ) with one complex product a point
-    let (sh, ch) = h.sin_cos();
-    // on the stack up to N = 16 (zeroing a larger array costs more than the work)
-    let mut vals = [0.0f64; 8 * 17];
-    let mut vals_heap = Vec::new();
-    let vals: &mut [f64] = if grid <= vals.len() {
-        &mut vals[..grid]
-    } else {
-        vals_heap.resize(grid, 0.0);
-        &mut vals_heap
-    };
-    let (mut st, mut ct) = (0.0f64, 1.0f64);
-    for v in vals.iter_mut() {
-        let (mut s, mut c) = (0.0, 1.0);
-        let mut x = coeffs[0];
+    MaxAbs::new((coeffs.len() - 1) / 2).eval(coeffs)
+}
+
+/// [`max_abs`] for one harmonic count, with `cos kθ_g`, `sin kθ_g` of the grid
+/// tabulated: the grid values are then a small matrix-vector product instead of a
+/// serial angle-addition recurrence per point (the continuation evaluates every output
+/// of every point).
+///
+/// ```
+/// use ihbm::fourier::{max_abs, MaxAbs};
+/// let peaks = MaxAbs::new(2);
+/// let x = [0.1, 1.0, 0.0, 0.0, 0.3]; // 0.1 + cos θ + 0.3 sin 2θ
+/// assert_eq!(peaks.eval(&x), max_abs(&x));
+/// ```
+#[derive(Debug, Clone)]
+pub struct MaxAbs {
+    n: usize,
+    /// Column-major by coefficient: `table[(i - 1) * grid + g]` is basis function `i`
+    /// (`cos kθ`, then `sin kθ`, as the coefficients are laid out) at grid point `g`, so
+    /// that the grid values accumulate one contiguous (vectorisable) column at a time.
+    table: Vec<f64>,
+}
+
+impl MaxAbs {
+    /// The grid table for `harmonics` harmonics.
+    pub fn new(harmonics: usize) -> MaxAbs {
+        let n = harmonics;
+        let grid = 8 * (n + 1);
+        let h = 2.0 * PI / grid as f64;
+        let mut table = Vec::with_capacity(grid * 2 * n);
         for k in 1..=n {
-            (s, c) = (s * ct + c * st, c * ct - s * st);
-            x += coeffs[k] * c + coeffs[n + k] * s;
+            table.extend((0..grid).map(|g| ((k * g) as f64 * h).cos()));
         }
-        *v = x;
-        (st, ct) = (st * ch + ct * sh, ct * ch - st * sh);
+        for k in 1..=n {
+            table.extend((0..grid).map(|g| ((k * g) as f64 * h).sin()));
+        }
+        MaxAbs { n, table }
     }
-    let mut best = vals.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let curvature: f64 =
-        (1..=n).map(|k| (k * k) as f64 * (coeffs[k].abs() + coeffs[n + k].abs())).sum();
-    let slack = curvature * h * h / 8.0;
-    let grid_best = best;
-    for j in 0..grid {
-        let prev = vals[if j == 0 { grid - 1 } else { j - 1 }];
-        let next = vals[if j + 1 == grid { 0 } else { j + 1 }];
-        let here = vals[j];
-        let is_peak = here.abs() >= prev.abs() && here.abs() >= next.abs() && here != 0.0;
-        if !is_peak || here.abs() + slack < grid_best {
-            continue;
+
+    /// The largest `|x(θ)|` of `coeffs` (`2N + 1` of them, `N` as in [`MaxAbs::new`]).
+    pub fn eval(&self, coeffs: &[f64]) -> f64 {
+        let n = self.n;
+        debug_assert_eq!(coeffs.len(), 2 * n + 1);
+        if n == 0 {
+            return coeffs[0].abs();
         }
-        // Start at the vertex of the parabola through the three grid values.
-        let curv = prev - 2.0 * here + next;
-        let offset = if curv != 0.0 { (0.5 * (prev - next) / curv).clamp(-1.0, 1.0) } else { 0.0 };
-        let mut theta = (j as f64 + offset) * h;
-        for _ in 0..30 {
-            let (_, d1, d2) = eval_d2(coeffs, theta);
-            if d2 == 0.0 {
-                break;
-            }
-            let step = (d1 / d2).clamp(-h, h);
-            theta -= step;
-            // Quadratic convergence: θ is then good to ~1e-20, |x| to rounding.
-            if step.abs() < 1e-10 {
-                break;
+        let grid = 8 * (n + 1);
+        let h = 2.0 * PI / grid as f64;
+        // on the stack up to N = 16 (zeroing a larger array costs more than the work)
+        let mut vals = [0.0f64; 8 * 17];
+        let mut vals_heap = Vec::new();
+        let vals: &mut [f64] = if grid <= vals.len() {
+            &mut vals[..grid]
+        } else {
+            vals_heap.resize(grid, 0.0);
+            &mut vals_heap
+        };
+        vals.fill(coeffs[0]);
+        for (&c, col) in coeffs[1..].iter().zip(self.table.chunks_exact(grid)) {
+            for (v, t) in vals.iter_mut().zip(col) {
+                *v += c * t;
             }
         }
-        best = best.max(eval(coeffs, theta).abs());
+        let mut best = vals.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let curvature: f64 =
+            (1..=n).map(|k| (k * k) as f64 * (coeffs[k].abs() + coeffs[n + k].abs())).sum();
+        let slack = curvature * h * h / 8.0;
+        let grid_best = best;
+        for j in 0..grid {
+            let prev = vals[if j == 0 { grid - 1 } else { j - 1 }];
+            let next = vals[if j + 1 == grid { 0 } else { j + 1 }];
+            let here = vals[j];
+            let is_peak = here.abs() >= prev.abs() && here.abs() >= next.abs() && here != 0.0;
+            if !is_peak || here.abs() + slack < grid_best {
+                continue;
+            }
+            // Start at the vertex of the parabola through the three grid values.
+            let curv = prev - 2.0 * here + next;
+            let offset =
+                if curv != 0.0 { (0.5 * (prev - next) / curv).clamp(-1.0, 1.0) } else { 0.0 };
+            let mut theta = (j as f64 + offset) * h;
+            for _ in 0..30 {
+                let (_, d1, d2) = eval_d2(coeffs, theta);
+                if d2 == 0.0 {
+                    break;
+                }
+                let step = (d1 / d2).clamp(-h, h);
+                theta -= step;
+                // Quadratic convergence: θ is then good to ~1e-20, |x| to rounding.
+                if step.abs() < 1e-10 {
+                    break;
+                }
+            }
+            best = best.max(eval(coeffs, theta).abs());
+        }
+        best
     }
-    best
 }
 
 /// FFT plans and buffers for one harmonic count and sample count.

@@ -944,7 +944,7 @@ impl Hill {
             for k in 0..=nh {
                 let w = Complex64::new(0.0, k as f64 * omega);
                 let (fp, dfp) = f(lambda + w);
-                let (fm, dfm) = f(lambda - w);
+                let (fm, dfm) = if k == 0 { (fp, dfp) } else { f(lambda - w) };
                 self.alpha[k] = [
                     (fp + fm) * 0.5,
                     i1 * (fp - fm) * 0.5,

@@ -320,6 +320,7 @@ struct RawFold {
 /// Output summaries of a coefficient vector, with a reusable buffer.
 struct OutputEval {
     harmonics: usize,
+    peaks: crate::fourier::MaxAbs,
     buf: Vec<f64>,
     outputs: Vec<Vec<(usize, f64)>>,
 }
@@ -328,6 +329,7 @@ impl OutputEval {
     fn new<M: Model>(model: &M, harmonics: usize) -> Self {
         OutputEval {
             harmonics,
+            peaks: crate::fourier::MaxAbs::new(harmonics),
             buf: vec![0.0; 2 * harmonics + 1],
             outputs: model.outputs().iter().map(|o| o.terms.to_vec()).collect(),
         }
@@ -344,7 +346,7 @@ impl OutputEval {
                 }
             }
             out.push(PointOutput {
-                max_abs: crate::fourier::max_abs(&self.buf),
+                max_abs: self.peaks.eval(&self.buf),
                 mean: self.buf[0],
                 amp1: self.buf[1].hypot(self.buf[nh + 1]),
             });
