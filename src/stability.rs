@@ -442,9 +442,12 @@ impl Hill {
                 if c.im < -tie {
                     continue; // its conjugate is refined
                 }
+                // Two candidates refined to one root (the iteration from a frozen
+                // candidate far from its root can wander to another exponent): the second
+                // is not refined, rather than one exponent counted twice and one lost.
                 let l = match self.refine(params, omega, c, opts.max_refine_iter) {
-                    Some(l) => l,
-                    None => {
+                    Some(l) if !self.raw.iter().any(|&r| same_exponent(l, r, omega)) => l,
+                    _ => {
                         refined = false;
                         c
                     }
@@ -588,7 +591,8 @@ impl Hill {
                 return None;
             }
             // Stay on the real axis / in the upper half plane as before.
-            if (l.im == 0.0) != (ln.im == 0.0) || ln.im < 0.0 && l.im > 0.0 {
+            let (was_real, is_real) = (real(l, omega), real(ln, omega));
+            if was_real != is_real || !is_real && ln.im < 0.0 {
                 return None;
             }
             if (ln - l).norm() > 0.25 * st.sep[i] {
@@ -1233,9 +1237,12 @@ fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
         .map(|(i, &a)| {
             let mut best = f64::INFINITY;
             for (j, &b) in l.iter().enumerate() {
-                for z in [b, b.conj()] {
+                for (c, z) in [b, b.conj()].into_iter().enumerate() {
                     for shift in [-1.0, 0.0, 1.0] {
-                        let itself = j == i && shift == 0.0 && z == a;
+                        // A real exponent is its own conjugate (an iteration in complex
+                        // arithmetic leaves it an imaginary part of rounding size).
+                        let own = j == i && shift == 0.0 && (c == 0 || real(a, omega));
+                        let itself = own || j == i && shift == 0.0 && z == a;
                         if !itself {
                             best = best.min((a - z - w * shift).norm());
                         }
@@ -1245,6 +1252,24 @@ fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
             best
         })
         .collect()
+}
+
+/// Whether `a` and `b` are one exponent: equal, or conjugate, modulo `iΩ` (to the
+/// refinement's tolerance).
+fn same_exponent(a: Complex64, b: Complex64, omega: f64) -> bool {
+    let tol = 1e-8 * omega.max(a.norm());
+    let a = fold_into_strip(a, omega);
+    [b, b.conj()].into_iter().any(|z| {
+        let d = a - fold_into_strip(z, omega);
+        let im = d.im - (d.im / omega).round() * omega;
+        Complex64::new(d.re, im).norm() <= tol
+    })
+}
+
+/// Whether a (raw) exponent is real: its imaginary part is at rounding level (the
+/// refinement and tracking iterate in complex arithmetic).
+fn real(l: Complex64, omega: f64) -> bool {
+    l.im.abs() <= 1e-12 * omega
 }
 
 /// Scale `v` to unit 2-norm; `None` if it is zero or not finite.
