@@ -286,6 +286,12 @@ pub struct Hill {
     /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
     centres: Vec<Spread>,
     next_rank: f64,
+    /// The eigenvalues the selection left out, best ranked first (not copies of kept
+    /// ones): replacements when two kept candidates refine to one root.
+    spare: Vec<Complex64>,
+    /// The last full analysis replaced a candidate by a spare (its selection was not
+    /// clean: tracking does not start from it).
+    replaced: bool,
     /// Exponents of the last full analysis, one per conjugate pair, not folded: the
     /// selected eigenvalues (integer orders) or their refined roots (fractional).
     raw: Vec<Complex64>,
@@ -396,6 +402,8 @@ impl Hill {
             cands: Vec::with_capacity(big),
             centres: Vec::with_capacity(big),
             next_rank: f64::INFINITY,
+            spare: Vec::with_capacity(big),
+            replaced: false,
             raw: Vec::with_capacity(big),
             t: vec![Complex64::new(0.0, 0.0); m * m],
             dt: vec![Complex64::new(0.0, 0.0); m * m],
@@ -434,22 +442,36 @@ impl Hill {
         let mut refined = true;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.cands.len());
         self.raw.clear();
+        self.replaced = false;
         if self.fractional && opts.refine {
             // The exact (not frozen) polynomial part for the refinement.
             self.assemble_polynomial(params, omega, false);
             let cands = std::mem::take(&mut self.cands);
+            let mut spare = 0;
             for &c in &cands {
                 if c.im < -tie {
                     continue; // its conjugate is refined
                 }
-                // Two candidates refined to one root (the iteration from a frozen
-                // candidate far from its root can wander to another exponent): the second
-                // is not refined, rather than one exponent counted twice and one lost.
-                let l = match self.refine(params, omega, c, opts.max_refine_iter) {
-                    Some(l) if !self.raw.iter().any(|&r| same_exponent(l, r, omega)) => l,
-                    _ => {
-                        refined = false;
-                        c
+                // Two candidates refined to one root (two copies of one exponent kept by
+                // a selection confused by a strongly nonlinear response, or an iteration
+                // that wandered to another exponent): the next spare candidate replaces
+                // the second, rather than one exponent counted twice and one lost. If
+                // none refines to a new root, the candidate is reported unrefined.
+                let mut cand = c;
+                let l = loop {
+                    match self.refine(params, omega, cand, opts.max_refine_iter) {
+                        Some(l) if !self.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
+                            break l
+                        }
+                        Some(_) if spare < self.spare.len().min(SPARE_TRIES) => {
+                            cand = self.spare[spare];
+                            spare += 1;
+                            self.replaced = true;
+                        }
+                        _ => {
+                            refined = false;
+                            break c;
+                        }
                     }
                 };
                 self.raw.push(l);
@@ -526,6 +548,7 @@ impl Hill {
         let n_out: usize =
             self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
         if self.raw.is_empty()
+            || self.replaced
             || n_out != self.central_count()
             || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
             || self.centres.iter().any(|c| c.key() + RANK_GAP > self.next_rank)
@@ -825,6 +848,7 @@ impl Hill {
         let same_tie = 1e-6 * omega;
         self.cands.clear();
         self.centres.clear();
+        self.spare.clear();
         self.next_rank = f64::INFINITY;
         for &(z, c) in &scored {
             let same = self.cands.iter().any(|k| {
@@ -835,8 +859,13 @@ impl Hill {
                 continue;
             }
             if self.cands.len() == count {
-                self.next_rank = c.key();
-                break;
+                if self.spare.is_empty() {
+                    self.next_rank = c.key();
+                }
+                if z.im >= -tie {
+                    self.spare.push(z); // one per conjugate pair, as the refinement takes
+                }
+                continue;
             }
             self.cands.push(z);
             self.centres.push(c);
@@ -1154,6 +1183,8 @@ const CENTRE_MAX: f64 = 0.4;
 /// ([`Spread::key`]) higher by this than every one it keeps (the next copy of a mode
 /// with `|centre| ≤ 0.4` has `|centre|` larger by `1 - 2|centre| ≥ 0.2`).
 const RANK_GAP: f64 = 0.2;
+/// Spare candidates tried when two kept ones refine to the same root.
+const SPARE_TRIES: usize = 4;
 /// Restarts of a fractional refinement that lands on an off-centre copy.
 const RECENTRE_TRIES: usize = 3;
 /// Ranks closer than this are ties in the selection.

@@ -34,6 +34,22 @@ pub fn compare<M: Model>(model: &M, curve: &Curve, n: usize) -> TrackCounts {
             f.exponents
         );
         assert_eq!(t.exponents.len(), f.exponents.len(), "point {i} Ω = {} {t:?} {f:?}", p.omega);
+        // No exponent counted twice (modulo iΩ; a conjugate pair is two exponents, and
+        // at period doubling λ and conj λ = λ - iΩ are listed as such a pair).
+        let e = &f.exponents;
+        for a in 0..e.len() {
+            for b in a + 1..e.len() {
+                let d = e[a] - e[b];
+                let im = d.im - (d.im / p.omega).round() * p.omega;
+                let conj_pair = (e[a] - e[b].conj()).norm() <= 1e-12 * p.omega;
+                assert!(
+                    conj_pair || d.re.hypot(im) > 1e-8 * p.omega,
+                    "point {i} Ω = {}: {} twice in {e:?}",
+                    p.omega,
+                    e[a]
+                );
+            }
+        }
         // Integer orders: one exponent per state variable (q_max · ndof), none counted
         // twice. (A fractional model has as many as the nonlinear eigenproblem has roots
         // on the principal sheet.)
