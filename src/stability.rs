@@ -97,6 +97,18 @@
 //!    `T(λ_k) x = T'(λ_k) v_k`, `λ_{k+1} = λ_k - (uᴴ v_k)/(uᴴ x)`, `v_{k+1} = x/(uᴴ x)`,
 //!    quadratically convergent for a simple eigenvalue, with `T'` from
 //!    `d/dλ (λ + ikΩ)^p = p (λ + ikΩ)^{p-1}`.
+//! 3. *Re-centring*: a candidate far from its root (the quarter car's `k = 0` block has
+//!    no damping at all when frozen, so at low Ω its candidates are off by more than
+//!    `Ω/2`) can converge to a neighbouring copy `λ - ijΩ`, a less accurate root of the
+//!    truncated problem. The refined eigenvector's centre says so (near `j`); the
+//!    iteration restarts from `λ + ijΩ` (at most 3 times).
+//! 4. *No exponent twice*: when a strongly nonlinear response confuses the frozen
+//!    selection, two kept candidates can be copies of one exponent and refine to the
+//!    same root while another exponent is left out (the quarter car with `k3 = 5e6` on
+//!    its large-amplitude branch kept the body mode twice and lost the wheel mode). A
+//!    root already found is replaced by the refinement of the best-ranked candidate the
+//!    selection left out (up to 4 tries); if none gives a new root, the candidate is
+//!    reported unrefined.
 //!
 //! # Justification and limits (the book should say these)
 //!
@@ -131,6 +143,15 @@
 //! step is below `1e-12·scale`, or below `1e-7·scale` and `1e-3` times the previous
 //! step, so that the quadratic error estimate is below `1e-10·scale`).
 //!
+//! Each step is followed by a cheap trial of the next one: with `w` from one adjoint
+//! solve on the factors at hand (`T(λ_k)ᴴ w = u`, close to the left eigenvector since
+//! `λ_k` is close to the root), the two-sided Rayleigh functional step
+//! `δ = wᴴT(λ)v / wᴴT'(λ)v` is Newton's step on the scalar `wᴴT(λ)v = 0`, and its
+//! error is of the order of the product of the errors of `v` and `w`. It is accepted
+//! under the same rule as a full step; along a curve this certifies most points after
+//! a single factorisation per exponent. (The same iteration refines the fractional
+//! candidates of the full analysis.)
+//!
 //! The full analysis runs instead (and restarts the tracking) when:
 //!
 //! - there is no previous point ([`Hill::reset`]: the continuation calls it at the start
@@ -141,10 +162,12 @@
 //!   above every selected one (a copy nearly as centred), a count other than
 //!   `q_max·ndof` with conjugates, or two exponents closer than `1e-6·Ω`;
 //! - Newton does not converge in 5 iterations, leaves the real axis or the upper half
-//!   plane, ends on an eigenvector with `|centre| > 0.4`, or an exponent moves by more
-//!   than a quarter of its separation `sep` (the distance to every other exponent, its
-//!   own conjugate and all their copies shifted by `±iΩ`), before or after the step; or
-//!   it ends within `1e-6·Ω` of another.
+//!   plane, ends on an eigenvector with `|centre| > 0.4`, or corrects the predicted
+//!   exponent by more than a quarter of its separation `sep` (the distance to every
+//!   other exponent, its own conjugate and all their copies shifted by `±iΩ`), before
+//!   or after the step; or it ends within `1e-6·Ω` of another. (A real exponent is its
+//!   own conjugate: real means an imaginary part below `1e-12·Ω`, the rounding the
+//!   complex iteration leaves.)
 //!
 //! Why the tracked exponents are the full analysis's: the full analysis keeps, per
 //! exponent, the copy with `|centre| < 1/2`; the continued eigenvector is checked to
@@ -602,11 +625,13 @@ impl Hill {
         };
         let mut lambdas = Vec::with_capacity(st.lambdas.len());
         let mut vectors = Vec::with_capacity(st.lambdas.len());
+        let mut preds = Vec::with_capacity(st.lambdas.len());
         for (i, (&l, v)) in st.lambdas.iter().zip(&st.vectors).enumerate() {
             let pred = match &st.prev {
                 Some((_, p)) => l + (l - p[i]) * ratio,
                 None => l,
             };
+            preds.push(pred);
             let (ln, vn, _) =
                 self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact)?;
             // Still the centred copy (not a jump to a copy of this or another mode).
@@ -618,7 +643,10 @@ impl Hill {
             if was_real != is_real || !is_real && ln.im < 0.0 {
                 return None;
             }
-            if (ln - l).norm() > 0.25 * st.sep[i] {
+            // The iteration's correction, not the motion: an exponent that moves
+            // steadily along the curve is predicted (the quarter car's body mode near
+            // resonance moves by a third of Ω per step).
+            if (ln - pred).norm() > 0.25 * st.sep[i] {
                 return None;
             }
             lambdas.push(ln);
@@ -626,8 +654,8 @@ impl Hill {
         }
         let sep = separations(&lambdas, omega);
         for (i, &s) in sep.iter().enumerate() {
-            let moved = (lambdas[i] - st.lambdas[i]).norm();
-            if s < MIN_SEPARATION * omega || moved > 0.25 * s {
+            let corrected = (lambdas[i] - preds[i]).norm();
+            if s < MIN_SEPARATION * omega || corrected > 0.25 * s {
                 return None;
             }
         }
