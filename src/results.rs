@@ -16,9 +16,9 @@ pub struct OutputSummary {
     pub mean: f64,
     /// First-harmonic amplitude sqrt(a1^2 + b1^2).
     pub amp1: f64,
-    /// Coefficients of cos(kΩt), k = 0..=N (cos[0] = a0).
+    /// Coefficients of cos(kΩt), k = 0..=N (`cos[0] = a0`).
     pub cos: Vec<f64>,
-    /// Coefficients of sin(kΩt), k = 0..=N (sin[0] = 0).
+    /// Coefficients of sin(kΩt), k = 0..=N (`sin[0] = 0`).
     pub sin: Vec<f64>,
 }
 
@@ -151,6 +151,10 @@ pub struct Curve {
     pub output_names: Vec<String>,
     /// Points in arc-length order.
     pub points: Vec<CurvePoint>,
+    /// Whether the points' `stable` verdicts come from Hill's method. `false` when the
+    /// sweep skipped stability (`SweepOptions::stability = None`, `--no-stability`):
+    /// every point then reads `stable` without having been checked.
+    pub stability_checked: bool,
     /// Folds in arc-length order.
     pub folds: Vec<Fold>,
     /// Jumps of slow up and down sweeps.

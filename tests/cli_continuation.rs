@@ -183,6 +183,8 @@ fn no_stability_keeps_the_points_and_drops_the_verdicts() {
     }
     assert!(pa.iter().any(|p| p["stable"] == false), "the middle branch is unstable");
     assert_eq!(a["folds"], b["folds"]);
+    // The curve says whether its verdicts were checked.
+    assert_eq!((&a["stability_checked"], &b["stability_checked"]), (&true.into(), &false.into()));
 }
 
 #[test]

@@ -42,6 +42,7 @@ fn linear_curve(f: f64) -> Curve {
         parameter: "omega".into(),
         output_names: vec!["z1".into(), "y".into()],
         points,
+        stability_checked: true,
         folds: vec![],
         jumps: vec![],
         segments: vec![Segment { from_omega: 1.0, to_omega: 100.0, ended: SegmentEnd::ReachedEnd }],
@@ -83,6 +84,7 @@ fn s_curve() -> Curve {
         parameter: "omega".into(),
         output_names: vec!["x".into()],
         points,
+        stability_checked: true,
         folds: vec![fold(s1), fold(s2)],
         jumps: vec![Jump {
             direction: Direction::Up,

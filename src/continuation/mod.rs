@@ -15,7 +15,7 @@
 //!   matrix per iteration. The same LU gives the new tangent.
 //! - *Step control*: the step grows when the corrector needs few iterations and the
 //!   tangent turns little, shrinks otherwise; halved on failure down to
-//!   [`SweepOptions::min_step`], where the segment ends "stalled: <reason>".
+//!   [`SweepOptions::min_step`], where the segment ends `"stalled: <reason>"`.
 //! - *Folds*: the λ-component of the tangent changes sign; the fold is then located
 //!   by regula falsi (Illinois) on that component along the arc, to `|t_λ| < 1e-13`,
 //!   i.e. far below 1e-8 relative in λ (λ is quadratic in the arc near a fold).
@@ -119,8 +119,9 @@ pub struct SweepOptions {
     pub max_steps: usize,
     /// When a branch runs away.
     pub amplitude_bound: AmplitudeBound,
-    /// Stability of every point; `None` skips it: all points are then reported stable,
-    /// no stability changes are found, and jumps may land on unstable branches.
+    /// Stability of every point; `None` skips it: all points are then reported stable
+    /// (and [`Curve::stability_checked`] is `false`), no stability changes are found,
+    /// and jumps may land on unstable branches.
     pub stability: Option<StabilityOptions>,
     /// Harmonic convergence study; `None` runs once with `harmonics`.
     pub convergence: Option<ConvergenceOptions>,
@@ -875,6 +876,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             },
             output_names,
             points,
+            stability_checked: self.opts.stability.is_some(),
             folds,
             jumps,
             segments,

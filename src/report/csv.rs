@@ -15,7 +15,7 @@ use std::fmt::Write;
 ///     output_names: vec!["x".into()],
 ///     points: vec![CurvePoint { omega: 2.0, param: 2.0, coeffs: vec![], stable: true,
 ///         outputs: vec![PointOutput { max_abs: 0.5, mean: 0.0, amp1: 0.5 }], segment: 0 }],
-///     folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
+///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
 ///     bifurcations: vec![], convergence: None };
 /// assert_eq!(ihbm::report::curve_csv(&curve),
 ///            "omega,stable,x_max_abs,x_mean,x_amp1\n2,true,0.5,0,0.5\n");

@@ -32,7 +32,9 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 }
 
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
-/// `parameter`, `stats` and `bifurcations` (extensions, after the contract's fields),
+/// `parameter`, `stats`, `bifurcations` and `stability_checked` (`false` when the
+/// sweep skipped stability, so that no point's `"stable": true` is taken for a
+/// verdict; extensions, after the contract's fields),
 /// and `convergence` when a harmonic-convergence study was run. For a parameter
 /// sweep (`parameter` not `"omega"`) every point and fold also carries `param`, the
 /// parameter's value (`omega` stays the fixed frequency); jumps' `omega` and
@@ -86,6 +88,7 @@ pub fn sweep_json(c: &Curve) -> Value {
         "model": c.model, "harmonics": c.harmonics, "points": points,
         "folds": folds, "jumps": jumps, "segments": segments,
         "parameter": c.parameter, "stats": c.stats, "bifurcations": c.bifurcations,
+        "stability_checked": c.stability_checked,
     });
     if let Some(conv) = &c.convergence {
         v["convergence"] = json!(conv);
