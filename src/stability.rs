@@ -284,9 +284,11 @@ pub struct Hill {
     degree: usize,
     /// Projection matrices `P[g_{e,j}]`, row-major len×len, index (e * nsig + j).
     proj: Vec<f64>,
-    /// Gradient spectrum `ĝ_m`, `m = 0..=2N`, and the scratch of the block formula.
+    /// Gradient spectrum `ĝ_m`, `m = 0..=2N`, the scratch of the block formula, and its
+    /// unit spectral factors (`N + 1` ones).
     ghat: Vec<Complex64>,
     ext: Vec<Complex64>,
+    ones: Vec<Complex64>,
     /// Constant gradient of each projection (`P = g0·I`), if it is one.
     diag: Vec<Option<f64>>,
     /// `M_0 .. M_degree`, row-major `m × m`.
@@ -410,6 +412,7 @@ impl Hill {
             proj: vec![0.0; neq * nsig * len * len],
             ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
             ext: vec![Complex64::new(0.0, 0.0); 4 * harmonics + 1],
+            ones: vec![Complex64::new(1.0, 0.0); harmonics + 1],
             diag: vec![None; neq * nsig],
             coef: (0..=degree).map(|_| vec![0.0; m * m]).collect(),
             sparse: (0..degree).map(|_| Vec::with_capacity(m * m)).collect(),
@@ -696,7 +699,6 @@ impl Hill {
             )));
         }
         bal.signal_gradients(coeffs, omega);
-        let ones = vec![Complex64::new(1.0, 0.0); nh + 1];
         for e in 0..self.ndof {
             for j in 0..nsig {
                 let idx = e * nsig + j;
@@ -711,7 +713,8 @@ impl Hill {
                 let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
                 p.fill(0.0);
                 let view = faer::MatMut::from_row_major_slice_mut(p, len, len);
-                crate::balance::add_block(view, nh, 0, 0, 1.0, &self.ghat, &mut self.ext, &ones);
+                let (g, ext, ones) = (&self.ghat, &mut self.ext, &self.ones);
+                crate::balance::add_block(view, nh, 0, 0, 1.0, g, ext, ones);
             }
         }
         Ok(())
