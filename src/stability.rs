@@ -320,12 +320,17 @@ pub struct Hill {
     /// Exponents of the last full analysis, one per conjugate pair, not folded: the
     /// selected eigenvalues (integer orders) or their refined roots (fractional).
     raw: Vec<Complex64>,
-    /// Complex kernels of the nonlinear iteration: `T`, `T'`, pivots, vectors.
+    /// Complex kernels of the nonlinear iteration: `T` (then its LU), pivots, a vector.
     t: Vec<Complex64>,
-    dt: Vec<Complex64>,
     piv: Vec<usize>,
     x: Vec<Complex64>,
+    /// `T(λ)v`, `T'(λ)v` of [`Hill::apply_t`], and its per-block scratch (`2·len`).
+    tv: Vec<Complex64>,
+    dtv: Vec<Complex64>,
+    block: Vec<Complex64>,
     alpha: Vec<[Complex64; 4]>,
+    /// `(q, Ω, λ)` of the fractional factors in `alpha` (`None`: not fractional ones).
+    alpha_at: Option<(f64, f64, Complex64)>,
     /// Tracking state (see [`Hill::track`]).
     state: Option<TrackState>,
     counts: TrackCounts,
@@ -432,10 +437,13 @@ impl Hill {
             replaced: false,
             raw: Vec::with_capacity(big),
             t: vec![Complex64::new(0.0, 0.0); m * m],
-            dt: vec![Complex64::new(0.0, 0.0); m * m],
             piv: vec![0; m],
             x: vec![Complex64::new(0.0, 0.0); m],
+            tv: vec![Complex64::new(0.0, 0.0); m],
+            dtv: vec![Complex64::new(0.0, 0.0); m],
+            block: vec![Complex64::new(0.0, 0.0); 2 * len],
             alpha: vec![[Complex64::new(0.0, 0.0); 4]; harmonics + 1],
+            alpha_at: None,
             state: None,
             counts: TrackCounts::default(),
         })
@@ -724,6 +732,7 @@ impl Hill {
     /// the fractional ones frozen at `λ = 0`.
     fn assemble_polynomial(&mut self, params: &[f64], omega: f64, frozen: bool) {
         let (len, nh, nsig, m) = (self.len, self.harmonics, self.signals.len(), self.m);
+        self.alpha_at = None; // `alpha` is scratch here
         for c in &mut self.coef {
             c.fill(0.0);
         }
@@ -956,90 +965,152 @@ impl Hill {
         Ok(())
     }
 
-    /// `T(λ)` and `T'(λ)` (row-major, into `self.t`, `self.dt`): the polynomial
-    /// `self.coef`, and, if `exact`, the fractional signals with their true factors
-    /// (principal branch; `self.coef` then assembled with `frozen = false`).
-    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64, exact: bool, want_t: bool) {
+    /// `T(λ)` (row-major, into `self.t`): the polynomial `self.coef` (`M_0` in full, the
+    /// higher coefficients by their nonzero entries), and, if `exact`, the fractional
+    /// signals with their true factors (principal branch; `self.coef` then assembled
+    /// with `frozen = false`). `T'(λ)` is only ever applied: [`Hill::apply_t`].
+    fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64, exact: bool) {
         let (len, nh, nsig, m, d) =
             (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
-        let zero = Complex64::new(0.0, 0.0);
-        let mut pw = [zero; 8];
-        let mut dpw = [zero; 8];
-        let mut p = Complex64::new(1.0, 0.0);
-        for r in 0..=d.min(7) {
-            pw[r] = p;
-            dpw[r] = if r == 0 { zero } else { pw[r - 1] * r as f64 };
-            p *= lambda;
+        let (pw, _) = powers(lambda, d);
+        for (t, &c) in self.t.iter_mut().zip(&self.coef[0]) {
+            *t = Complex64::new(c, 0.0);
         }
-        // M_0 in full, the higher coefficients by their nonzero entries.
-        if want_t {
-            for (t, &c) in self.t.iter_mut().zip(&self.coef[0]) {
-                *t = Complex64::new(c, 0.0);
-            }
-        }
-        self.dt.fill(zero);
         for r in 1..=d {
-            let (p, dp) = (pw[r], dpw[r]);
             for &(i, c) in &self.sparse[r - 1] {
-                if want_t {
-                    self.t[i] += p * c;
-                }
-                self.dt[i] += dp * c;
+                self.t[i] += pw[r] * c;
             }
         }
         if !(self.fractional && exact) {
             return;
         }
-        let i1 = Complex64::new(0.0, 1.0);
         for j in 0..nsig {
             let Order::Param(_) = self.signals[j].1 else { continue };
-            let q = self.signals[j].1.value(params);
-            let f = |z: Complex64| -> (Complex64, Complex64) {
-                if q == 0.0 {
-                    (Complex64::new(1.0, 0.0), zero)
-                } else if z == zero {
-                    (zero, Complex64::new(if q == 1.0 { 1.0 } else { 0.0 }, 0.0))
-                } else {
-                    let v = z.powf(q);
-                    (v, q * v / z)
-                }
-            };
-            // k = 0: f(λ) itself (α = f₊ = f₋).
-            for k in 0..=nh {
-                let w = Complex64::new(0.0, k as f64 * omega);
-                let (fp, dfp) = f(lambda + w);
-                let (fm, dfm) = if k == 0 { (fp, dfp) } else { f(lambda - w) };
-                self.alpha[k] = [
-                    (fp + fm) * 0.5,
-                    i1 * (fp - fm) * 0.5,
-                    (dfp + dfm) * 0.5,
-                    i1 * (dfp - dfm) * 0.5,
-                ];
-            }
+            self.fractional_factors(self.signals[j].1.value(params), omega, lambda);
             let ab = &self.alpha;
             for e in 0..self.ndof {
                 let idx = e * nsig + j;
                 let p = &self.proj[idx * len * len..(idx + 1) * len * len];
                 for &(dof, c) in &self.signals[j].0 {
                     let (r0, c0) = (e * len, dof * len);
+                    let f = |k: usize| (ab[k][0], ab[k][1]);
+                    match self.diag[idx] {
+                        Some(g) => add_diag(&mut self.t, m, r0, c0, c * g, nh, f),
+                        None => add_product(&mut self.t, m, r0, c0, c, p, len, nh, f),
+                    }
+                }
+            }
+        }
+    }
+
+    /// `self.alpha[k]` for a fractional order `q` at `λ`: the real-basis factors
+    /// `(α_k, β_k)` of `(λ ± ikΩ)^q` (principal branch) and their λ-derivatives.
+    fn fractional_factors(&mut self, q: f64, omega: f64, lambda: Complex64) {
+        // A Newton step assembles T(λ) and applies T'(λ) at the same point.
+        if self.alpha_at == Some((q, omega, lambda)) {
+            return;
+        }
+        self.alpha_at = Some((q, omega, lambda));
+        let zero = Complex64::new(0.0, 0.0);
+        let i1 = Complex64::new(0.0, 1.0);
+        let f = |z: Complex64| -> (Complex64, Complex64) {
+            if q == 0.0 {
+                (Complex64::new(1.0, 0.0), zero)
+            } else if z == zero {
+                (zero, Complex64::new(if q == 1.0 { 1.0 } else { 0.0 }, 0.0))
+            } else {
+                let v = z.powf(q);
+                (v, q * v / z)
+            }
+        };
+        // k = 0: f(λ) itself (α = f₊ = f₋).
+        for k in 0..=self.harmonics {
+            let w = Complex64::new(0.0, k as f64 * omega);
+            let (fp, dfp) = f(lambda + w);
+            let (fm, dfm) = if k == 0 { (fp, dfp) } else { f(lambda - w) };
+            self.alpha[k] =
+                [(fp + fm) * 0.5, i1 * (fp - fm) * 0.5, (dfp + dfm) * 0.5, i1 * (dfp - dfm) * 0.5];
+        }
+    }
+
+    /// `T(λ)v` and `T'(λ)v` into `self.tv`, `self.dtv` without assembling `T` (the
+    /// certification step of [`Hill::newton`]): `M_0 v` in full (real times complex),
+    /// the higher coefficients by their nonzero entries, and, if `exact`, each
+    /// fractional block `c·P·D` applied as `D` then `P`, the operators of
+    /// [`Hill::eval_t`].
+    fn apply_t(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        lambda: Complex64,
+        exact: bool,
+        v: &[Complex64],
+    ) {
+        let (len, nh, nsig, m, d) =
+            (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
+        let zero = Complex64::new(0.0, 0.0);
+        let (pw, dpw) = powers(lambda, d);
+        for (y, row) in self.tv.iter_mut().zip(self.coef[0].chunks_exact(m)) {
+            // Real times complex: two real dot products.
+            let (mut re, mut im) = (0.0, 0.0);
+            for (&a, x) in row.iter().zip(v) {
+                re += a * x.re;
+                im += a * x.im;
+            }
+            *y = Complex64::new(re, im);
+        }
+        self.dtv.fill(zero);
+        for r in 1..=d {
+            for &(i, c) in &self.sparse[r - 1] {
+                let x = v[i % m] * c;
+                self.tv[i / m] += pw[r] * x;
+                self.dtv[i / m] += dpw[r] * x;
+            }
+        }
+        if !(self.fractional && exact) {
+            return;
+        }
+        for j in 0..nsig {
+            let Order::Param(_) = self.signals[j].1 else { continue };
+            self.fractional_factors(self.signals[j].1.value(params), omega, lambda);
+            for e in 0..self.ndof {
+                let idx = e * nsig + j;
+                for &(dof, c) in &self.signals[j].0 {
+                    // D x and D' x for this block's columns.
+                    let x = &v[dof * len..(dof + 1) * len];
+                    let (y, dy) = self.block.split_at_mut(len);
+                    let a0 = &self.alpha[0];
+                    y[0] = a0[0] * x[0];
+                    dy[0] = a0[2] * x[0];
+                    for k in 1..=nh {
+                        let [al, be, dal, dbe] = self.alpha[k];
+                        let (xa, xb) = (x[k], x[nh + k]);
+                        y[k] = al * xa - be * xb;
+                        y[nh + k] = be * xa + al * xb;
+                        dy[k] = dal * xa - dbe * xb;
+                        dy[nh + k] = dbe * xa + dal * xb;
+                    }
+                    let (tv, dtv) =
+                        (&mut self.tv[e * len..][..len], &mut self.dtv[e * len..][..len]);
                     match self.diag[idx] {
                         Some(g) => {
-                            if want_t {
-                                add_diag(&mut self.t, m, r0, c0, c * g, nh, |k| {
-                                    (ab[k][0], ab[k][1])
-                                });
+                            let cg = c * g;
+                            for l in 0..len {
+                                tv[l] += y[l] * cg;
+                                dtv[l] += dy[l] * cg;
                             }
-                            add_diag(&mut self.dt, m, r0, c0, c * g, nh, |k| (ab[k][2], ab[k][3]));
                         }
                         None => {
-                            if want_t {
-                                add_product(&mut self.t, m, r0, c0, c, p, len, nh, |k| {
-                                    (ab[k][0], ab[k][1])
-                                });
+                            let p = &self.proj[idx * len * len..(idx + 1) * len * len];
+                            for (l, row) in p.chunks_exact(len).enumerate() {
+                                let (mut a, mut b) = (zero, zero);
+                                for ((&pk, &yk), &dyk) in row.iter().zip(y.iter()).zip(dy.iter()) {
+                                    a += yk * pk;
+                                    b += dyk * pk;
+                                }
+                                tv[l] += a * c;
+                                dtv[l] += b * c;
                             }
-                            add_product(&mut self.dt, m, r0, c0, c, p, len, nh, |k| {
-                                (ab[k][2], ab[k][3])
-                            });
                         }
                     }
                 }
@@ -1056,7 +1127,7 @@ impl Hill {
         l0: Complex64,
         exact: bool,
     ) -> Option<Vec<Complex64>> {
-        self.eval_t(params, omega, l0, exact, true);
+        self.eval_t(params, omega, l0, exact);
         let mut v: Vec<Complex64> =
             (0..self.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
         if !lu_solve(&mut self.t, self.m, &mut self.piv, &mut v) {
@@ -1118,8 +1189,8 @@ impl Hill {
     /// functional step `δ = wᴴT(λ)v / wᴴT'(λ)v` (Ostrowski; Schreiber 2008) is the Newton
     /// step on the scalar `wᴴT(λ)v = 0`, and its error is of the order of the product of
     /// the errors of `v` and `w`, both first order in `λ_k`'s. It is accepted under the
-    /// same rule as a full step; otherwise the full step follows, with `T(λ)` already
-    /// assembled. Along a curve this saves the second factorisation of most points.
+    /// same rule as a full step; otherwise the full step follows. Along a curve this
+    /// saves the second factorisation of most points.
     #[allow(clippy::too_many_arguments)] // the iteration's inputs, no natural grouping
     fn newton(
         &mut self,
@@ -1137,16 +1208,15 @@ impl Hill {
         let mut lambda = l0;
         let scale = omega.max(l0.norm());
         let mut last = f64::INFINITY;
-        // `self.t`, `self.dt` hold T(λ), T'(λ) (not factored) for the current λ.
-        let mut assembled = false;
         let done =
             |s: f64, last: f64| s <= 1e-12 * scale || (s <= 1e-7 * scale && s <= 1e-3 * last);
         for it in 0..max_iter {
             let reuse = factored && it == 0;
-            if !assembled {
-                self.eval_t(params, omega, lambda, exact, !reuse);
+            if !reuse {
+                self.eval_t(params, omega, lambda, exact);
             }
-            mat_vec(&self.dt, &v, &mut self.x);
+            self.apply_t(params, omega, lambda, exact, &v);
+            self.x.copy_from_slice(&self.dtv);
             let solved = if reuse {
                 lu_apply(&self.t, m, &self.piv, &mut self.x);
                 true
@@ -1179,16 +1249,13 @@ impl Hill {
                 return Some((lambda, v, it + 1));
             }
             last = s;
-            // The Rayleigh step at the new λ: w from the factors of T(λ_k) first (the
-            // assembly below overwrites them).
+            // The Rayleigh step at the new λ: w from the factors of T(λ_k), T(λ)v and
+            // T'(λ)v without assembling T(λ).
             w.copy_from_slice(&u);
             lu_apply_adjoint(&self.t, m, &self.piv, &mut w);
-            self.eval_t(params, omega, lambda, exact, true);
-            assembled = true;
-            mat_vec(&self.t, &v, &mut self.x);
-            let wr: Complex64 = w.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
-            mat_vec(&self.dt, &v, &mut self.x);
-            let wd: Complex64 = w.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
+            self.apply_t(params, omega, lambda, exact, &v);
+            let wr: Complex64 = w.iter().zip(&self.tv).map(|(a, b)| a.conj() * b).sum();
+            let wd: Complex64 = w.iter().zip(&self.dtv).map(|(a, b)| a.conj() * b).sum();
             let delta = wr / wd;
             if delta.re.is_finite() && delta.im.is_finite() && done(delta.norm(), last) {
                 lambda -= delta;
@@ -1403,6 +1470,19 @@ fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
     }
 }
 
+/// `λ^r` and `d/dλ λ^r = r λ^{r-1}` for `r = 0..=min(d, 7)`.
+fn powers(lambda: Complex64, d: usize) -> ([Complex64; 8], [Complex64; 8]) {
+    let zero = Complex64::new(0.0, 0.0);
+    let (mut pw, mut dpw) = ([zero; 8], [zero; 8]);
+    let mut p = Complex64::new(1.0, 0.0);
+    for r in 0..=d.min(7) {
+        pw[r] = p;
+        dpw[r] = if r == 0 { zero } else { pw[r - 1] * r as f64 };
+        p *= lambda;
+    }
+    (pw, dpw)
+}
+
 /// Solve `Aᴴ w = b` with the factors and swaps of `A` left by [`lu_solve`]
 /// (`P A = L U`, so `Aᴴ = Uᴴ Lᴴ P`).
 fn lu_apply_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
@@ -1418,14 +1498,6 @@ fn lu_apply_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64
     }
     for (k, &p) in piv.iter().enumerate().take(n).rev() {
         b.swap(k, p);
-    }
-}
-
-/// `y = A x`, `A` row-major `n × n`.
-fn mat_vec(a: &[Complex64], x: &[Complex64], y: &mut [Complex64]) {
-    let n = x.len();
-    for (yi, row) in y.iter_mut().zip(a.chunks_exact(n)) {
-        *yi = row.iter().zip(x).map(|(p, q)| p * q).sum();
     }
 }
 
@@ -1568,6 +1640,75 @@ mod tests {
         add_product(&mut dense, m, 7, 0, 1.5, &p, len, nh, ab);
         add_diag(&mut diag, m, 7, 0, 1.5 * g, nh, ab);
         assert_eq!(dense, diag);
+    }
+
+    #[test]
+    fn applied_t_equals_the_assembled_matrix_and_its_derivative() {
+        // T(λ)v from `apply_t` against the matrix `eval_t` assembles, and T'(λ)v against
+        // a central difference of T(λ)v, on the quarter car (fractional, a dense
+        // projection) and the Duffing oscillator, at complex λ.
+        use crate::corrector::{solve, SolveOptions};
+        use crate::models::{Duffing, QuarterCar};
+        fn check<M: Model>(model: &M, omega: f64, lambda: Complex64) {
+            let nh = 4;
+            let so = SolveOptions { harmonics: nh, ..Default::default() };
+            let sol = solve(model, omega, &so, None).unwrap();
+            let mut bal = Balance::new(model, nh).unwrap();
+            let mut hill = Hill::new(model, nh).unwrap();
+            hill.project(&mut bal, &sol.coeffs, omega).unwrap();
+            let params = bal.params().to_vec();
+            hill.assemble_polynomial(&params, omega, false);
+            let m = hill.m;
+            let v: Vec<Complex64> =
+                (0..m).map(|i| Complex64::new((i as f64 * 0.7).sin(), (i as f64).cos())).collect();
+            let tv_at = |hill: &mut Hill, l: Complex64| {
+                hill.apply_t(&params, omega, l, true, &v);
+                (hill.tv.clone(), hill.dtv.clone())
+            };
+            let (tv, dtv) = tv_at(&mut hill, lambda);
+            hill.eval_t(&params, omega, lambda, true);
+            let scale = hill.t.iter().fold(0.0f64, |a, z| a.max(z.norm()));
+            for i in 0..m {
+                let dense: Complex64 = (0..m).map(|j| hill.t[i * m + j] * v[j]).sum();
+                assert!(
+                    (dense - tv[i]).norm() <= 1e-13 * scale * m as f64,
+                    "{i}: {dense} vs {}",
+                    tv[i]
+                );
+            }
+            let h = 1e-5 * lambda.norm();
+            let (tp, _) = tv_at(&mut hill, lambda + h);
+            let (tm, _) = tv_at(&mut hill, lambda - h);
+            for i in 0..m {
+                let fd = (tp[i] - tm[i]) / (2.0 * h);
+                let tol = 1e-6 * (dtv[i].norm() + scale / lambda.norm());
+                assert!((fd - dtv[i]).norm() <= tol, "{i}: {fd} vs {}", dtv[i]);
+            }
+        }
+        check(
+            &QuarterCar { k3: 5e6, F: 0.03, ..Default::default() },
+            10.0,
+            Complex64::new(-1.3, 9.0),
+        );
+        check(
+            &Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 },
+            0.9,
+            Complex64::new(-0.2, 1.1),
+        );
+        // A fractional signal inside a nonlinear term: its projection is dense.
+        crate::oscillator! {
+            /// x'' + c x' + x + h x² D^p x = F cos Ωt.
+            pub struct FracProduct {
+                params { c = 0.1, h = 0.3, p = 0.6, F = 0.3 }
+                dofs { x }
+                equations {
+                    D(x, 2) + c * D(x, 1) + x + h * x.powi(2) * D(x, p) = F * cos(omega * t);
+                }
+            }
+        }
+        let model = FracProduct::default();
+        assert!(model.signals().iter().any(|s| matches!(s.order, Order::Param(_))));
+        check(&model, 0.8, Complex64::new(-0.1, 0.9));
     }
 
     #[test]
