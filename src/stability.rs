@@ -324,8 +324,10 @@ pub struct Hill {
     t: Vec<Complex64>,
     piv: Vec<usize>,
     x: Vec<Complex64>,
-    /// `T(λ)v`, `T'(λ)v` of [`Hill::apply_t`], and its per-block scratch (`2·len`).
+    /// `T(λ)v`, `T'(λ)v` of [`Hill::apply_t`], and its per-block scratch (`2·len`);
+    /// the adjoint vector of the certification step.
     tv: Vec<Complex64>,
+    w: Vec<Complex64>,
     dtv: Vec<Complex64>,
     block: Vec<Complex64>,
     alpha: Vec<[Complex64; 4]>,
@@ -440,6 +442,7 @@ impl Hill {
             piv: vec![0; m],
             x: vec![Complex64::new(0.0, 0.0); m],
             tv: vec![Complex64::new(0.0, 0.0); m],
+            w: vec![Complex64::new(0.0, 0.0); m],
             dtv: vec![Complex64::new(0.0, 0.0); m],
             block: vec![Complex64::new(0.0, 0.0); 2 * len],
             alpha: vec![[Complex64::new(0.0, 0.0); 4]; harmonics + 1],
@@ -509,11 +512,7 @@ impl Hill {
                     }
                 };
                 self.raw.push(l);
-                let l = fold_into_strip(l, omega);
-                exps.push(l);
-                if l.im.abs() > tie {
-                    exps.push(l.conj());
-                }
+                push_central(&mut exps, l, omega);
             }
             self.cands = cands;
         } else {
@@ -579,8 +578,7 @@ impl Hill {
     /// models: the state holds their refined roots).
     fn start_state(&mut self, params: &[f64], omega: f64) {
         self.state = None;
-        let n_out: usize =
-            self.raw.iter().map(|l| if l.im.abs() > 1e-12 * omega { 2 } else { 1 }).sum();
+        let n_out: usize = self.raw.iter().map(|&l| if real(l, omega) { 1 } else { 2 }).sum();
         if self.raw.is_empty()
             || self.replaced
             || n_out != self.central_count()
@@ -670,14 +668,9 @@ impl Hill {
                 return None;
             }
         }
-        let tie = 1e-12 * omega;
         let mut exps = Vec::with_capacity(2 * lambdas.len());
         for &c in &lambdas {
-            let l = fold_into_strip(c, omega);
-            exps.push(l);
-            if l.im.abs() > tie {
-                exps.push(l.conj());
-            }
+            push_central(&mut exps, c, omega);
         }
         let prev = Some((st.omega, st.lambdas));
         self.state = Some(TrackState { omega, lambdas, vectors, sep, prev });
@@ -891,9 +884,9 @@ impl Hill {
         self.spare.clear();
         self.next_rank = f64::INFINITY;
         for &(z, c) in &scored {
-            let same = self.cands.iter().any(|k| {
-                let d = (z.im - k.im).rem_euclid(omega);
-                (z.re - k.re).abs() <= same_tie && (d <= same_tie || omega - d <= same_tie)
+            let same = self.cands.iter().any(|&k| {
+                let d = fold_into_strip(z - k, omega);
+                d.re.abs() <= same_tie && d.im.abs() <= same_tie
             });
             if same {
                 continue;
@@ -1037,7 +1030,9 @@ impl Hill {
     /// certification step of [`Hill::newton`]): `M_0 v` in full (real times complex),
     /// the higher coefficients by their nonzero entries, and, if `exact`, each
     /// fractional block `c·P·D` applied as `D` then `P`, the operators of
-    /// [`Hill::eval_t`].
+    /// [`Hill::eval_t`]. Without `want_tv` (a Newton step needs `T'(λ)v` only) the
+    /// dense `M_0 v` is skipped and `self.tv` is not valid.
+    #[allow(clippy::too_many_arguments)] // the iteration's inputs, as in `newton`
     fn apply_t(
         &mut self,
         params: &[f64],
@@ -1045,19 +1040,22 @@ impl Hill {
         lambda: Complex64,
         exact: bool,
         v: &[Complex64],
+        want_tv: bool,
     ) {
         let (len, nh, nsig, m, d) =
             (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
         let zero = Complex64::new(0.0, 0.0);
         let (pw, dpw) = powers(lambda, d);
-        for (y, row) in self.tv.iter_mut().zip(self.coef[0].chunks_exact(m)) {
-            // Real times complex: two real dot products.
-            let (mut re, mut im) = (0.0, 0.0);
-            for (&a, x) in row.iter().zip(v) {
-                re += a * x.re;
-                im += a * x.im;
+        if want_tv {
+            for (y, row) in self.tv.iter_mut().zip(self.coef[0].chunks_exact(m)) {
+                // Real times complex: two real dot products.
+                let (mut re, mut im) = (0.0, 0.0);
+                for (&a, x) in row.iter().zip(v) {
+                    re += a * x.re;
+                    im += a * x.im;
+                }
+                *y = Complex64::new(re, im);
             }
-            *y = Complex64::new(re, im);
         }
         self.dtv.fill(zero);
         for r in 1..=d {
@@ -1204,7 +1202,6 @@ impl Hill {
     ) -> Option<(Complex64, Vec<Complex64>, usize)> {
         let m = self.m;
         let u = v.clone();
-        let mut w = vec![Complex64::new(0.0, 0.0); m];
         let mut lambda = l0;
         let scale = omega.max(l0.norm());
         let mut last = f64::INFINITY;
@@ -1215,7 +1212,7 @@ impl Hill {
             if !reuse {
                 self.eval_t(params, omega, lambda, exact);
             }
-            self.apply_t(params, omega, lambda, exact, &v);
+            self.apply_t(params, omega, lambda, exact, &v, false);
             self.x.copy_from_slice(&self.dtv);
             let solved = if reuse {
                 lu_apply(&self.t, m, &self.piv, &mut self.x);
@@ -1251,11 +1248,11 @@ impl Hill {
             last = s;
             // The Rayleigh step at the new λ: w from the factors of T(λ_k), T(λ)v and
             // T'(λ)v without assembling T(λ).
-            w.copy_from_slice(&u);
-            lu_apply_adjoint(&self.t, m, &self.piv, &mut w);
-            self.apply_t(params, omega, lambda, exact, &v);
-            let wr: Complex64 = w.iter().zip(&self.tv).map(|(a, b)| a.conj() * b).sum();
-            let wd: Complex64 = w.iter().zip(&self.dtv).map(|(a, b)| a.conj() * b).sum();
+            self.w.copy_from_slice(&u);
+            lu_apply_adjoint(&self.t, m, &self.piv, &mut self.w);
+            self.apply_t(params, omega, lambda, exact, &v, true);
+            let wr: Complex64 = self.w.iter().zip(&self.tv).map(|(a, b)| a.conj() * b).sum();
+            let wd: Complex64 = self.w.iter().zip(&self.dtv).map(|(a, b)| a.conj() * b).sum();
             let delta = wr / wd;
             if delta.re.is_finite() && delta.im.is_finite() && done(delta.norm(), last) {
                 lambda -= delta;
@@ -1387,12 +1384,17 @@ fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
 /// refinement's tolerance).
 fn same_exponent(a: Complex64, b: Complex64, omega: f64) -> bool {
     let tol = 1e-8 * omega.max(a.norm());
-    let a = fold_into_strip(a, omega);
-    [b, b.conj()].into_iter().any(|z| {
-        let d = a - fold_into_strip(z, omega);
-        let im = d.im - (d.im / omega).round() * omega;
-        Complex64::new(d.re, im).norm() <= tol
-    })
+    [b, b.conj()].into_iter().any(|z| fold_into_strip(a - z, omega).norm() <= tol)
+}
+
+/// Append the exponent `l` (one of a conjugate pair, not folded) to `exps` folded into
+/// the strip, and its conjugate unless it is real.
+fn push_central(exps: &mut Vec<Complex64>, l: Complex64, omega: f64) {
+    let l = fold_into_strip(l, omega);
+    exps.push(l);
+    if !real(l, omega) {
+        exps.push(l.conj());
+    }
 }
 
 /// Whether a (raw) exponent is real: its imaginary part is at rounding level (the
@@ -1662,7 +1664,7 @@ mod tests {
             let v: Vec<Complex64> =
                 (0..m).map(|i| Complex64::new((i as f64 * 0.7).sin(), (i as f64).cos())).collect();
             let tv_at = |hill: &mut Hill, l: Complex64| {
-                hill.apply_t(&params, omega, l, true, &v);
+                hill.apply_t(&params, omega, l, true, &v, true);
                 (hill.tv.clone(), hill.dtv.clone())
             };
             let (tv, dtv) = tv_at(&mut hill, lambda);
