@@ -424,7 +424,6 @@ impl<'m, M: Model> Balance<'m, M> {
             self.project(r);
         } else {
             self.residual(a, omega, r);
-            self.grad_valid = true;
         }
         jac.fill(0.0);
         let signals = self.model.signals();
