@@ -181,12 +181,17 @@ impl MaxAbs {
         let n = harmonics;
         let grid = 8 * (n + 1);
         let h = 2.0 * PI / grid as f64;
-        let mut table = Vec::with_capacity(grid * 2 * n);
-        for k in 1..=n {
-            table.extend((0..grid).map(|g| ((k * g) as f64 * h).cos()));
-        }
-        for k in 1..=n {
-            table.extend((0..grid).map(|g| ((k * g) as f64 * h).sin()));
+        // cos kθ_g, sin kθ_g by the angle-addition recurrence (as `eval_d2`): one
+        // `sin_cos` per grid point, so that a one-off `max_abs` stays cheap.
+        let mut table = vec![0.0; grid * 2 * n];
+        for g in 0..grid {
+            let (s1, c1) = (g as f64 * h).sin_cos();
+            let (mut s, mut c) = (0.0, 1.0);
+            for k in 1..=n {
+                (s, c) = (s * c1 + c * s1, c * c1 - s * s1);
+                table[(k - 1) * grid + g] = c;
+                table[(n + k - 1) * grid + g] = s;
+            }
         }
         MaxAbs { n, table }
     }
