@@ -84,6 +84,11 @@ pub struct Fold {
     pub outputs: Vec<PointOutput>,
     /// The fold lies between `points[after]` and `points[after + 1]`.
     pub after: usize,
+    /// Whether the location converged (the tangent's parameter component below
+    /// 1e-13). `false` when the corrector failed on the way: the fold exists (the
+    /// tangent turned between two converged points) but `omega` is only the last
+    /// converged estimate inside that step, not located to 1e-8.
+    pub located: bool,
 }
 
 /// Direction of a slow sweep.

@@ -113,6 +113,7 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
     }
     assert!(worst < 1e-10, "amplitude equation violated by {worst:.3e}");
     for f in &curve.folds {
+        assert!(f.located);
         assert!(eq.residual(f.omega, f.coeffs[1].hypot(f.coeffs[2])).abs() < 1e-10);
     }
     let expected = eq.folds(lo, hi);
@@ -180,6 +181,22 @@ fn secant_predictor_traces_the_same_curve() {
         SweepOptions { predictor: ihbm::continuation::Predictor::Secant, ..one_harmonic_opts() };
     let curve = sweep(&model, 0.5, 2.5, &opts).unwrap();
     check_curve(&curve, &eq, 0.5, 2.5);
+}
+
+/// A small corrector budget (a user forcing small steps) limits the steps only: the
+/// folds, the end of the range and the jump landings are located with a budget of
+/// their own. (With the step's budget of 1, fold locations were off by 1e-3 and the
+/// range end was missed, so the curve was traced twice, once from each end.)
+#[test]
+fn a_small_corrector_budget_still_locates_folds_and_the_range_end() {
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: 0.2 };
+    for max_iter in [1, 2] {
+        let curve =
+            sweep(&model, 0.5, 2.5, &SweepOptions { max_iter, ..one_harmonic_opts() }).unwrap();
+        assert!(curve.folds.iter().all(|f| f.located), "max_iter {max_iter}");
+        check_curve(&curve, &eq, 0.5, 2.5);
+    }
 }
 
 #[test]

@@ -77,6 +77,7 @@ fn s_curve() -> Curve {
         coeffs: vec![],
         outputs: vec![PointOutput { max_abs: s, mean: 0.0, amp1: s }],
         after: (s * n as f64) as usize,
+        located: true,
     };
     Curve {
         model: "synthetic".into(),

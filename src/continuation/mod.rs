@@ -113,7 +113,9 @@ pub struct SweepOptions {
     pub predictor: Predictor,
     /// Newton tolerance on the scaled step (max-norm).
     pub tol: f64,
-    /// Newton iterations per corrector call.
+    /// Newton iterations per corrector call of a step (a failure halves the step).
+    /// The solves that locate a point rather than step to it (the first point, folds,
+    /// the end of the range, stability changes, jump landings) get at least 30.
     pub max_iter: usize,
     /// Accepted steps per sweep before giving up ("stalled: step limit").
     pub max_steps: usize,
@@ -316,6 +318,7 @@ struct Node {
 struct RawFold {
     y: Vec<f64>,
     after: usize,
+    located: bool,
 }
 
 /// Output summaries of a coefficient vector, with a reusable buffer.
@@ -461,11 +464,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 self.tr.newton_step(&mut y, &e_n, target)?;
             }
         }
-        let tol = self.tr.max_iter;
-        self.tr.max_iter = tol.max(30);
-        let r = self.tr.correct(&mut y, &e_n, target);
-        self.tr.max_iter = tol;
-        r.map(|_| y)
+        self.tr.locate(&mut y, &e_n, target).map(|_| y)
     }
 
     fn push(&mut self, y: Vec<f64>, t: Vec<f64>, border: Vec<f64>, h: f64, segment: usize) {
@@ -573,7 +572,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 let mut yb: Vec<f64> = yl.iter().zip(&y).map(|(a, c)| a + f * (c - a)).collect();
                 let mut e_n = vec![0.0; n + 1];
                 e_n[n] = 1.0;
-                return match self.tr.correct_exact(&mut yb, &e_n, b) {
+                return match self.tr.locate_exact(&mut yb, &e_n, b) {
                     Ok(_) => {
                         let mut tb = vec![0.0; n + 1];
                         self.tr.tangent(&mut tb);
@@ -680,24 +679,28 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         let mut y = vec![0.0; n + 1];
         let mut t = vec![0.0; n + 1];
         let mut best: Option<Vec<f64>> = None;
+        let mut located = false;
         for _ in 0..100 {
             let s = bracket.next();
             for i in 0..=n {
                 y[i] = y_i[i] + s * dirv[i];
             }
-            if self.tr.correct_exact(&mut y, dirv, base + s).is_err() {
+            if self.tr.locate_exact(&mut y, dirv, base + s).is_err() {
                 break;
             }
             self.tr.tangent(&mut t);
             let f = t[n];
             best = Some(y.clone());
             if f.abs() < 1e-13 || bracket.width() < 1e-14 * h {
+                located = true;
                 break;
             }
             bracket.update(s, f);
         }
+        // Not located: the fold is still there (the tangent turned between two
+        // converged points); report the last converged trial, or the point before it.
         let y = best.unwrap_or(y_i);
-        self.folds.push(RawFold { y, after: last });
+        self.folds.push(RawFold { y, after: last, located });
     }
 
     /// Locate where `growth` (largest Re λ minus the tolerance) changes sign inside
@@ -724,7 +727,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             for k in 0..=n {
                 y[k] = y_i[k] + s * dirv[k];
             }
-            if self.tr.correct(&mut y, &dirv, base + s).is_err() {
+            if self.tr.locate(&mut y, &dirv, base + s).is_err() {
                 break;
             }
             self.tr.set_point(&y);
@@ -761,7 +764,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             let mut y: Vec<f64> = ya.iter().zip(yb).map(|(p, q)| p + l.w * (q - p)).collect();
             let target = first.omega / self.tr.sl;
             y[n] = target;
-            if self.tr.correct(&mut y, &e_n, target).is_err() {
+            if self.tr.locate(&mut y, &e_n, target).is_err() {
                 continue;
             }
             let (_, _, _, outputs) = self.point_at(&y);
@@ -810,7 +813,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 after: f.after,
                 outputs: outputs.clone(),
             });
-            folds.push(Fold { omega, param, coeffs, outputs, after: f.after });
+            folds.push(Fold { omega, param, coeffs, outputs, after: f.after, located: f.located });
         }
         self.nodes = nodes;
         if let Some(so) = self.opts.stability {

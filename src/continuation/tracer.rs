@@ -210,22 +210,31 @@ impl<'m, M: Model> Tracer<'m, M> {
     /// followed by a chord step or two; when a chord step contracts by less than a
     /// factor 10, Newton resumes. Converged when an update is below `tol`, so the
     /// error left is far below it. The tangent comes from that LU, off by about
-    /// `dn`: harmless for prediction and step control ([`Tracer::correct_exact`] is
-    /// for where it is not).
+    /// `dn`: harmless for prediction and step control ([`Tracer::locate_exact`] is
+    /// for where it is not). At most `max_iter` Newton iterations: the step
+    /// controller's budget (a failure halves the step).
     pub fn correct(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, String> {
-        self.correct_to(y, border, target, true)
+        self.correct_to(y, border, target, true, self.max_iter)
     }
 
-    /// [`Tracer::correct`] with Newton steps only, so that the LU (and the tangent)
+    /// [`Tracer::correct`] for a point that is located rather than stepped to (the
+    /// first point, a stability change, a jump's landing): from an interpolated guess,
+    /// with at least [`LOCATE_ITER`] iterations whatever `max_iter` is (a user may set
+    /// that low to force small steps; a location has no smaller step to fall back on).
+    pub fn locate(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, String> {
+        self.correct_to(y, border, target, true, self.max_iter.max(LOCATE_ITER))
+    }
+
+    /// [`Tracer::locate`] with Newton steps only, so that the LU (and the tangent)
     /// belong to the converged point: for locating folds, where the tangent's
-    /// λ-component is the unknown.
-    pub fn correct_exact(
+    /// λ-component is the unknown, and landing on the end of the range.
+    pub fn locate_exact(
         &mut self,
         y: &mut [f64],
         border: &[f64],
         target: f64,
     ) -> Result<usize, String> {
-        self.correct_to(y, border, target, false)
+        self.correct_to(y, border, target, false, self.max_iter.max(LOCATE_ITER))
     }
 
     fn correct_to(
@@ -234,9 +243,10 @@ impl<'m, M: Model> Tracer<'m, M> {
         border: &[f64],
         target: f64,
         chord: bool,
+        budget: usize,
     ) -> Result<usize, String> {
         let mut prev = f64::INFINITY;
-        for it in 1..=self.max_iter {
+        for it in 1..=budget {
             let dn = self.newton_step(y, border, target)?;
             if dn <= self.tol {
                 return Ok(it);
@@ -262,7 +272,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             }
             prev = dn;
         }
-        Err(format!("no convergence in {} iterations at Ω = {:.6}", self.max_iter, self.omega(y)))
+        Err(format!("no convergence in {budget} iterations at Ω = {:.6}", self.omega(y)))
     }
 
     /// The unit tangent from the LU of the last `correct` (oriented along its border).
@@ -277,6 +287,10 @@ impl<'m, M: Model> Tracer<'m, M> {
         }
     }
 }
+
+/// Newton iterations allowed to the solves that locate a point (see
+/// [`Tracer::locate`]); a run that stops contracting fails after 3 anyway.
+pub const LOCATE_ITER: usize = 30;
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
