@@ -1459,11 +1459,11 @@ fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
     for (k, &p) in piv.iter().enumerate().take(n) {
         b.swap(k, p);
     }
-    for k in 0..n {
-        let bk = b[k];
-        for i in k + 1..n {
-            b[i] -= a[i * n + k] * bk;
-        }
+    // Row-wise dot products (contiguous rows of L), not column updates.
+    for i in 1..n {
+        let row = &a[i * n..i * n + i];
+        let s: Complex64 = row.iter().zip(&b[..i]).map(|(x, y)| x * y).sum();
+        b[i] -= s;
     }
     for k in (0..n).rev() {
         let row = &a[k * n..(k + 1) * n];
@@ -1488,9 +1488,15 @@ fn powers(lambda: Complex64, d: usize) -> ([Complex64; 8], [Complex64; 8]) {
 /// Solve `Aᴴ w = b` with the factors and swaps of `A` left by [`lu_solve`]
 /// (`P A = L U`, so `Aᴴ = Uᴴ Lᴴ P`).
 fn lu_apply_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
+    // Uᴴ is lower triangular with the rows of U as its columns: column updates read
+    // contiguous rows.
     for k in 0..n {
-        let s: Complex64 = (0..k).map(|i| a[i * n + k].conj() * b[i]).sum();
-        b[k] = (b[k] - s) / a[k * n + k].conj();
+        let row = &a[k * n..(k + 1) * n];
+        let bk = b[k] / row[k].conj();
+        b[k] = bk;
+        for (x, u) in b[k + 1..].iter_mut().zip(&row[k + 1..]) {
+            *x -= u.conj() * bk;
+        }
     }
     for k in (0..n).rev() {
         let bk = b[k];
