@@ -141,6 +141,18 @@ pub struct CurveStats {
     pub chord_steps: usize,
     /// Folds found.
     pub folds: usize,
+    /// Folds among them whose location did not converge ([`Fold::located`] `false`).
+    pub folds_unlocated: usize,
+    /// Points whose stability came from a full Hill analysis; the others were tracked
+    /// from their neighbour ([`Hill::track`](crate::stability::Hill::track)).
+    pub stability_full: usize,
+    /// Points whose verdict rests on an exponent the fractional refinement did not
+    /// converge to a root of its own (reported at its frozen-order estimate,
+    /// [`Floquet::refined`](crate::stability::Floquet::refined) `false`), or whose
+    /// analysis failed (reported unstable): verdicts to be read with care. (The quarter
+    /// car with `k3 = 5e6`, `F = 0.1` near its locked-suspension asymptote: 89 of 270
+    /// points at `N = 5`, and more, not fewer, at larger `N`.)
+    pub stability_unrefined: usize,
 }
 
 /// A traced amplitude–frequency (or amplitude–parameter) curve.

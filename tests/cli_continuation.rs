@@ -409,3 +409,34 @@ fn study_sweep_tables_take_the_same_settings_and_checks() {
         assert!((x_max(p) - exact).abs() < 1e-9 * exact);
     }
 }
+
+/// Verdicts that rest on an unrefined fractional exponent are counted and announced,
+/// as many as the library's own analysis of the same points finds unrefined; a curve
+/// without any says nothing.
+#[test]
+fn unrefined_stability_verdicts_are_counted_and_announced() {
+    use ihbm::balance::Balance;
+    use ihbm::stability::{Hill, StabilityOptions};
+    let base = ["sweep", "quarter-car", "--from", "1", "--to", "100"];
+    let hard = with(&base, &["--set", "k3=5e6", "--set", "F=0.1"]);
+    let v = json(&with(&hard, &["--json", "-"]));
+    let counted = v["stats"]["stability_unrefined"].as_u64().unwrap() as usize;
+    // Independently: a full analysis at every point of the curve.
+    let model = ihbm::models::QuarterCar { k3: 5e6, F: 0.1, ..Default::default() };
+    let curve = ihbm::continuation::sweep(&model, 1.0, 100.0, &Default::default()).unwrap();
+    let mut bal = Balance::new(&model, 5).unwrap();
+    let mut hill = Hill::new(&model, 5).unwrap();
+    let so = StabilityOptions::default();
+    let full = curve
+        .points
+        .iter()
+        .filter(|p| !hill.analyse(&mut bal, &p.coeffs, p.omega, &so).unwrap().refined)
+        .count();
+    assert!(full > 0, "test setup: this curve has points with unrefined exponents");
+    // Tracked points are refined roots by construction, so only full analyses count.
+    assert!(counted > 0 && counted <= full, "counted {counted}, unrefined in full {full}");
+    let text = stdout(&ihbm(&hard));
+    let warning = format!("warning: at {counted} of {} points", points(&v).len());
+    assert!(text.contains(&warning), "{text}");
+    assert!(!stdout(&ihbm(&base)).contains("warning"));
+}

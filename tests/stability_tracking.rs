@@ -19,6 +19,8 @@ fn car_curve(k3: f64, f: f64, what: &str, check: impl Fn(&Curve)) -> TrackCounts
     let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
     check(&c);
     let k = compare(&model, &c, 5);
+    // The sweep's own statistics count what this replay of its tracking counts.
+    assert_eq!(c.stats.stability_full, k.full, "{what}: {:?}", c.stats);
     eprintln!("quarter car {what}: {} points, {k:?}", c.points.len());
     k
 }
@@ -26,7 +28,10 @@ fn car_curve(k3: f64, f: f64, what: &str, check: impl Fn(&Curve)) -> TrackCounts
 #[test]
 fn quarter_car_default_curve() {
     let d = QuarterCar::default();
-    let k = car_curve(d.k3, d.F, "default", |c| assert!(c.points.iter().all(|p| p.stable)));
+    let k = car_curve(d.k3, d.F, "default", |c| {
+        assert!(c.points.iter().all(|p| p.stable));
+        assert_eq!(c.stats.stability_unrefined, 0);
+    });
     // Nearly linear at every point: once the first analysis has the centred copies, no
     // point needs another (before the refinement re-centred its roots, the first
     // analysis kept off-centre copies below 6.3 rad/s and 13 points fell back).

@@ -165,7 +165,8 @@ fn write_curve(
         ),
     )?;
     for f in &curve.folds {
-        w(out, format_args!("  fold at {p} = {:.8}{unit}\n", f.param))?;
+        let how = if f.located { "" } else { " (not located: the corrector failed on the way)" };
+        w(out, format_args!("  fold at {p} = {:.8}{unit}{how}\n", f.param))?;
     }
     for j in &curve.jumps {
         w(
@@ -184,6 +185,17 @@ fn write_curve(
     }
     if let Some(c) = &curve.convergence {
         w(out, format_args!("  {}\n", report::convergence_line(c)))?;
+    }
+    let unrefined = curve.stats.stability_unrefined;
+    if unrefined > 0 {
+        w(
+            out,
+            format_args!(
+                "  warning: at {unrefined} of {} points the stability verdict rests on an \
+                 exponent whose fractional refinement failed (its frozen-order estimate)\n",
+                curve.points.len(),
+            ),
+        )?;
     }
     Ok(())
 }

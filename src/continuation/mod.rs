@@ -835,11 +835,16 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                         p.stable = f.stable;
                         growth[i] = f.max_real - so.tol * p.omega;
                         kinds[i] = f.leading_crossing(p.omega);
+                        self.stats.stability_unrefined += usize::from(!f.refined);
                     }
                     // Not shown stable: say so rather than guess.
-                    Err(_) => p.stable = false,
+                    Err(_) => {
+                        p.stable = false;
+                        self.stats.stability_unrefined += 1;
+                    }
                 }
             }
+            self.stats.stability_full = hill.counts().full;
             for i in 0..points.len().saturating_sub(1) {
                 let same = self.nodes[i].segment == self.nodes[i + 1].segment;
                 if !same
@@ -864,6 +869,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             bifurcations.sort_by_key(|b| b.after);
         }
         self.stats.folds = folds.len();
+        self.stats.folds_unlocated = folds.iter().filter(|f| !f.located).count();
         self.stats.corrector_iterations = self.tr.iterations;
         self.stats.chord_steps = self.tr.chord_steps;
         let output_names: Vec<String> =

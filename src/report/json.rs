@@ -34,8 +34,8 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
 /// `parameter`, `stats`, `bifurcations` and `stability_checked` (`false` when the
 /// sweep skipped stability, so that no point's `"stable": true` is taken for a
-/// verdict; extensions, after the contract's fields), each fold's `located`
-/// ([`Fold::located`](crate::results::Fold::located)),
+/// verdict; extensions, after the contract's fields; the objects inside the contract's
+/// arrays keep exactly the contract's keys),
 /// and `convergence` when a harmonic-convergence study was run. For a parameter
 /// sweep (`parameter` not `"omega"`) every point and fold also carries `param`, the
 /// parameter's value (`omega` stays the fixed frequency); jumps' `omega` and
@@ -62,8 +62,7 @@ pub fn sweep_json(c: &Curve) -> Value {
             for (name, o) in c.output_names.iter().zip(&f.outputs) {
                 m.insert(name.clone(), json!({ "max_abs": o.max_abs }));
             }
-            let mut v =
-                json!({ "omega": f.omega, "outputs": Value::Object(m), "located": f.located });
+            let mut v = json!({ "omega": f.omega, "outputs": Value::Object(m) });
             if by_param {
                 v["param"] = json!(f.param);
             }

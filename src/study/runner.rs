@@ -61,7 +61,8 @@ enum Job {
 }
 
 enum Done {
-    Curve(Result<Curve>),
+    // Boxed: a curve's header outweighs the other results several times.
+    Curve(Result<Box<Curve>>),
     Sim(Result<SimRecord>),
     Solve(Result<SolveRecord>),
 }
@@ -169,7 +170,7 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
             let r = match *job {
                 Job::Curve(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    Done::Curve(c.model.sweep(p.range.0, p.range.1, &c.sweep))
+                    Done::Curve(c.model.sweep(p.range.0, p.range.1, &c.sweep).map(Box::new))
                 }
                 Job::Sim(f, k) => {
                     let p = &plans[f];
@@ -201,7 +202,7 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
             (&Job::Curve(f, k), Done::Curve(r)) => {
                 secs[f] += t;
                 match r {
-                    Ok(c) => curves[f][k] = Some(c),
+                    Ok(c) => curves[f][k] = Some(*c),
                     Err(e) => out
                         .failures
                         .push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label)),
