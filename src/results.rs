@@ -227,6 +227,11 @@ pub struct Bifurcation {
     pub after: usize,
     /// Per output, in model output order.
     pub outputs: Vec<PointOutput>,
+    /// Whether its location converged (a fold: see [`Fold::located`]; a stability
+    /// change: the bracket on the largest real part below 1e-10 of the step). `false`:
+    /// the corrector or the Hill analysis failed on the way, and the place is the last
+    /// good estimate inside that step.
+    pub located: bool,
 }
 
 /// One level of a harmonic-convergence study.

@@ -137,6 +137,7 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
         let between = i > f0 && i <= f1;
         assert_eq!(p.stable, !between, "point {i} at Ω = {} (folds after {f0}, {f1})", p.omega);
     }
+    assert!(curve.bifurcations.iter().all(|b| b.located));
     let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
     assert_eq!(kinds, vec![BifurcationKind::Fold, BifurcationKind::Fold]);
     // Jumps: up at the upper fold to the lower branch, down at the lower fold up.

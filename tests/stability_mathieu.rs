@@ -156,6 +156,7 @@ fn mathieu_tongue_is_period_doubling_without_fold() {
         .collect();
     assert_eq!(curve.bifurcations.len(), 2, "{:?}", curve.bifurcations);
     assert_eq!(pd.len(), 2, "{:?}", curve.bifurcations);
+    assert!(curve.bifurcations.iter().all(|b| b.located));
     for (g, e) in pd.iter().zip(&edges) {
         assert!((g - e).abs() < 1e-6 * e, "period doubling at {g}, monodromy says {e}");
     }

@@ -143,6 +143,7 @@ fn quarter_car_torus_bubble_is_confirmed_in_time() {
     assert!(curve.folds.is_empty());
     let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
     assert_eq!(kinds, [ihbm::results::BifurcationKind::Torus; 2]);
+    assert!(curve.bifurcations.iter().all(|b| b.located));
     let (a, b) = (curve.bifurcations[0].omega, curve.bifurcations[1].omega);
     assert!(a > 50.0 && b < 70.0 && a < b);
     let hb = |w: f64| {

@@ -704,7 +704,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
     }
 
     /// Locate where `growth` (largest Re λ minus the tolerance) changes sign inside
-    /// the step into `nodes[i + 1]`; the point there.
+    /// the step into `nodes[i + 1]`; the point there, and whether the search converged.
     fn locate_stability_change(
         &mut self,
         hill: &mut Hill,
@@ -712,7 +712,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
         i: usize,
         g0: f64,
         g1: f64,
-    ) -> Vec<f64> {
+    ) -> (Vec<f64>, bool) {
         let n = self.tr.n;
         let y_i = self.nodes[i].y.clone();
         let dirv = self.nodes[i + 1].border.clone();
@@ -739,11 +739,11 @@ impl<'m, M: Model> Run<'_, 'm, M> {
             let f = fl.max_real - so.tol * omega;
             best.copy_from_slice(&y);
             if f == 0.0 || bracket.width() < 1e-10 * h {
-                break;
+                return (best, true);
             }
             bracket.update(s, f);
         }
-        best
+        (best, false)
     }
 
     /// Replace the polyline's landing amplitudes by the solution at the jump's
@@ -812,6 +812,7 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                 param,
                 after: f.after,
                 outputs: outputs.clone(),
+                located: f.located,
             });
             folds.push(Fold { omega, param, coeffs, outputs, after: f.after, located: f.located });
         }
@@ -862,9 +863,10 @@ impl<'m, M: Model> Run<'_, 'm, M> {
                     Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
                     _ => BifurcationKind::Torus,
                 };
-                let y = self.locate_stability_change(&mut hill, &so, i, growth[i], growth[i + 1]);
+                let (y, located) =
+                    self.locate_stability_change(&mut hill, &so, i, growth[i], growth[i + 1]);
                 let (omega, param, _, outputs) = self.point_at(&y);
-                bifurcations.push(Bifurcation { kind, omega, param, after: i, outputs });
+                bifurcations.push(Bifurcation { kind, omega, param, after: i, outputs, located });
             }
             bifurcations.sort_by_key(|b| b.after);
         }
