@@ -85,7 +85,7 @@ pub struct Fold {
     /// The fold lies between `points[after]` and `points[after + 1]`.
     pub after: usize,
     /// Whether the location converged (the tangent's parameter component below
-    /// 1e-13). `false` when the corrector failed on the way: the fold exists (the
+    /// 1e-13, or the bracket below 1e-14 of the step). `false` when the corrector failed on the way: the fold exists (the
     /// tangent turned between two converged points) but `omega` is only the last
     /// converged estimate inside that step, not located to 1e-8.
     pub located: bool,
@@ -149,9 +149,8 @@ pub struct CurveStats {
     /// Points whose verdict rests on an exponent the fractional refinement did not
     /// converge to a root of its own (reported at its frozen-order estimate,
     /// [`Floquet::refined`](crate::stability::Floquet::refined) `false`), or whose
-    /// analysis failed (reported unstable): verdicts to be read with care. (The quarter
-    /// car with `k3 = 5e6`, `F = 0.1` near its locked-suspension asymptote: 89 of 270
-    /// points at `N = 5`, and more, not fewer, at larger `N`.)
+    /// analysis failed (reported unstable): verdicts to be read with care (book,
+    /// chapter 5, *Its limits*).
     pub stability_unrefined: usize,
 }
 
