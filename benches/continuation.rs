@@ -1,9 +1,10 @@
 //! The whole quarter-car curve, Ω from 1 to 100 rad/s, N = 5: with Hill stability at
-//! every point (the goal: about 1 ms on one core), and without it; and one
-//! stability analysis in full vs tracked from a neighbouring point.
+//! every point (the goal: about 1 ms on one core), and without it; one
+//! stability analysis in full vs tracked from a neighbouring point; and a family of
+//! curves, one after the other and in parallel.
 use criterion::{criterion_group, criterion_main, Criterion};
 use ihbm::balance::Balance;
-use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::continuation::{sweep, sweep_family, SweepOptions};
 use ihbm::corrector::{solve, SolveOptions};
 use ihbm::models::QuarterCar;
 use ihbm::stability::{Hill, StabilityOptions};
@@ -54,5 +55,29 @@ fn hill_point(c: &mut Criterion) {
     eprintln!("hill counts in the track bench: {:?}", hill.counts());
 }
 
-criterion_group!(benches, quarter_car_curve, hill_point);
+/// A parameter family as the paper draws it (Fig. 9: k3 = 1e6 … 5e6, five curves
+/// 1 → 100 rad/s with stability): one after the other, and [`sweep_family`] in
+/// parallel across the cores.
+fn k3_family(c: &mut Criterion) {
+    let car = QuarterCar::default();
+    let opts = SweepOptions::default();
+    let values = [1e6, 2e6, 3e6, 4e6, 5e6];
+    eprintln!("k3 family on {} threads", rayon::current_num_threads());
+    let mut g = c.benchmark_group("family");
+    g.sample_size(20);
+    g.bench_function("quarter_car_k3_5_curves_sequential", |b| {
+        b.iter(|| {
+            for &k3 in &values {
+                let m = QuarterCar { k3, ..car.clone() };
+                black_box(sweep(&m, 1.0, 100.0, &opts).expect("curve"));
+            }
+        })
+    });
+    g.bench_function("quarter_car_k3_5_curves_parallel", |b| {
+        b.iter(|| black_box(sweep_family(&car, "k3", &values, 1.0, 100.0, &opts)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, quarter_car_curve, hill_point, k3_family);
 criterion_main!(benches);
