@@ -311,8 +311,8 @@ pub struct Hill {
     /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
     centres: Vec<Spread>,
     next_rank: f64,
-    /// The eigenvalues the selection left out, best ranked first (not copies of kept
-    /// ones): replacements when two kept candidates refine to one root.
+    /// The best-ranked eigenvalues the selection left out (not copies of kept ones, at
+    /// most `SPARE_TRIES`): replacements when two kept candidates refine to one root.
     spare: Vec<Complex64>,
     /// The last full analysis replaced a candidate by a spare (its selection was not
     /// clean: tracking does not start from it).
@@ -500,7 +500,7 @@ impl Hill {
                         Some(l) if !self.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
                             break l
                         }
-                        Some(_) if spare < self.spare.len().min(SPARE_TRIES) => {
+                        Some(_) if spare < self.spare.len() => {
                             cand = self.spare[spare];
                             spare += 1;
                             self.replaced = true;
@@ -892,11 +892,13 @@ impl Hill {
                 continue;
             }
             if self.cands.len() == count {
-                if self.spare.is_empty() {
+                // Sorted by rank: the first one left out ranks lowest.
+                if self.next_rank == f64::INFINITY {
                     self.next_rank = c.key();
                 }
-                if z.im >= -tie {
-                    self.spare.push(z); // one per conjugate pair, as the refinement takes
+                // One per conjugate pair, as the refinement takes them.
+                if z.im >= -tie && self.spare.len() < SPARE_TRIES {
+                    self.spare.push(z);
                 }
                 continue;
             }
@@ -1239,11 +1241,7 @@ impl Hill {
             let s = step.norm();
             // Quadratic convergence: the next error is about s²/last ≤ 1e-3·s.
             if done(s, last) {
-                if lambda == Complex64::new(0.0, 0.0) {
-                    return None;
-                }
-                normalise(&mut v)?;
-                return Some((lambda, v, it + 1));
+                return converged(lambda, v, it + 1);
             }
             last = s;
             // The Rayleigh step at the new λ: w from the factors of T(λ_k), T(λ)v and
@@ -1255,12 +1253,7 @@ impl Hill {
             let wd: Complex64 = self.w.iter().zip(&self.dtv).map(|(a, b)| a.conj() * b).sum();
             let delta = wr / wd;
             if delta.re.is_finite() && delta.im.is_finite() && done(delta.norm(), last) {
-                lambda -= delta;
-                if lambda == Complex64::new(0.0, 0.0) {
-                    return None;
-                }
-                normalise(&mut v)?;
-                return Some((lambda, v, it + 1));
+                return converged(lambda - delta, v, it + 1);
             }
         }
         None
@@ -1367,8 +1360,7 @@ fn separations(l: &[Complex64], omega: f64) -> Vec<f64> {
                     for shift in [-1.0, 0.0, 1.0] {
                         // A real exponent is its own conjugate (an iteration in complex
                         // arithmetic leaves it an imaginary part of rounding size).
-                        let own = j == i && shift == 0.0 && (c == 0 || real(a, omega));
-                        let itself = own || j == i && shift == 0.0 && z == a;
+                        let itself = j == i && shift == 0.0 && (c == 0 || real(a, omega));
                         if !itself {
                             best = best.min((a - z - w * shift).norm());
                         }
@@ -1401,6 +1393,21 @@ fn push_central(exps: &mut Vec<Complex64>, l: Complex64, omega: f64) {
 /// refinement and tracking iterate in complex arithmetic).
 fn real(l: Complex64, omega: f64) -> bool {
     l.im.abs() <= 1e-12 * omega
+}
+
+/// The result of [`Hill::newton`] at convergence: the root, its unit eigenvector and
+/// the iterations; `None` at exactly zero (where the fractional factors `λ^q` branch)
+/// or for an eigenvector that cannot be normalised.
+fn converged(
+    lambda: Complex64,
+    mut v: Vec<Complex64>,
+    its: usize,
+) -> Option<(Complex64, Vec<Complex64>, usize)> {
+    if lambda == Complex64::new(0.0, 0.0) {
+        return None;
+    }
+    normalise(&mut v)?;
+    Some((lambda, v, its))
 }
 
 /// Scale `v` to unit 2-norm; `None` if it is zero or not finite.
