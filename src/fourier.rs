@@ -152,7 +152,7 @@ fn eval_d2(coeffs: &[f64], theta: f64) -> (f64, f64, f64) {
 /// assert!((max_abs(&[0.0, 3.0, 4.0]) - 5.0).abs() < 1e-12);
 /// ```
 pub fn max_abs(coeffs: &[f64]) -> f64 {
-    MaxAbs::new((coeffs.len() - 1) / 2).eval(coeffs)
+    MaxAbs::new(coeffs.len().saturating_sub(1) / 2).eval(coeffs)
 }
 
 /// [`max_abs`] for one harmonic count, with `cos kθ_g`, `sin kθ_g` of the grid
@@ -165,6 +165,9 @@ pub fn max_abs(coeffs: &[f64]) -> f64 {
 /// let peaks = MaxAbs::new(2);
 /// let x = [0.1, 1.0, 0.0, 0.0, 0.3]; // 0.1 + cos θ + 0.3 sin 2θ
 /// assert_eq!(peaks.eval(&x), max_abs(&x));
+/// // Another harmonic count still works: 0.5 + 3 cos θ + 4 sin θ peaks at 0.5 + 5.
+/// assert!((peaks.eval(&[0.5, 3.0, 4.0]) - 5.5).abs() < 1e-12);
+/// assert_eq!(max_abs(&[]), 0.0);
 /// ```
 #[derive(Debug, Clone)]
 pub struct MaxAbs {
@@ -196,10 +199,18 @@ impl MaxAbs {
         MaxAbs { n, table }
     }
 
-    /// The largest `|x(θ)|` of `coeffs` (`2N + 1` of them, `N` as in [`MaxAbs::new`]).
+    /// The largest `|x(θ)|` of `coeffs` (`2N + 1` of them, `N` as in [`MaxAbs::new`];
+    /// another count is evaluated with a table of its own, a trailing odd coefficient
+    /// ignored, none gives 0).
     pub fn eval(&self, coeffs: &[f64]) -> f64 {
         let n = self.n;
-        debug_assert_eq!(coeffs.len(), 2 * n + 1);
+        if coeffs.len() != 2 * n + 1 {
+            let other = coeffs.len().saturating_sub(1) / 2;
+            return match coeffs.len() {
+                0 => 0.0,
+                _ => MaxAbs::new(other).eval(&coeffs[..2 * other + 1]),
+            };
+        }
         if n == 0 {
             return coeffs[0].abs();
         }
