@@ -85,9 +85,10 @@ pub struct Fold {
     /// The fold lies between `points[after]` and `points[after + 1]`.
     pub after: usize,
     /// Whether the location converged (the tangent's parameter component below
-    /// 1e-13, or the bracket below 1e-14 of the step). `false` when the corrector failed on the way: the fold exists (the
-    /// tangent turned between two converged points) but `omega` is only the last
-    /// converged estimate inside that step, not located to 1e-8.
+    /// 1e-13, or the bracket below 1e-14 of the step). `false` when the corrector
+    /// failed on the way: the fold exists (the tangent turned between two converged
+    /// points) but `omega` is only the last converged estimate inside that step, not
+    /// located to 1e-8.
     pub located: bool,
 }
 
