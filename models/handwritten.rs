@@ -5,8 +5,9 @@
 /// Hand-written quarter car (reference paper, eq. 4).
 pub mod quarter_car {
 
-    use crate::model::{Model, Order, Output, ParamInfo, Signal};
+    use crate::model::{Model, Order, Output, ParamInfo, Signal, Text};
     use num_dual::DualNum;
+    use std::borrow::Cow::Borrowed;
 
     /// Quarter-car suspension with a metal-rubber (fractional) element; Table 1 defaults.
     #[derive(Debug, Clone, PartialEq)]
@@ -32,33 +33,57 @@ pub mod quarter_car {
         pub F: f64,
     }
 
-    const PARAMS: [ParamInfo; 9] = [
-        ParamInfo { name: "m1", default: 240.0, doc: "body (sprung) mass, kg" },
-        ParamInfo { name: "m2", default: 30.0, doc: "wheel (unsprung) mass, kg" },
-        ParamInfo { name: "k1", default: 16_000.0, doc: "linear suspension stiffness, N/m" },
-        ParamInfo { name: "k3", default: 10_000.0, doc: "cubic suspension stiffness, N/m^3" },
-        ParamInfo { name: "kt", default: 160_000.0, doc: "tyre stiffness, N/m" },
-        ParamInfo { name: "c", default: 1_000.0, doc: "viscous suspension damping, N s/m" },
-        ParamInfo { name: "h", default: 1_000.0, doc: "fractional damping coefficient, N s^p/m" },
-        ParamInfo { name: "p", default: 0.5, doc: "fractional order" },
-        ParamInfo { name: "F", default: 0.01, doc: "road amplitude, m" },
+    const PARAMS: &[ParamInfo] = &[
+        ParamInfo { name: Borrowed("m1"), default: 240.0, doc: Borrowed("body (sprung) mass, kg") },
+        ParamInfo {
+            name: Borrowed("m2"),
+            default: 30.0,
+            doc: Borrowed("wheel (unsprung) mass, kg"),
+        },
+        ParamInfo {
+            name: Borrowed("k1"),
+            default: 16_000.0,
+            doc: Borrowed("linear suspension stiffness, N/m"),
+        },
+        ParamInfo {
+            name: Borrowed("k3"),
+            default: 10_000.0,
+            doc: Borrowed("cubic suspension stiffness, N/m^3"),
+        },
+        ParamInfo {
+            name: Borrowed("kt"),
+            default: 160_000.0,
+            doc: Borrowed("tyre stiffness, N/m"),
+        },
+        ParamInfo {
+            name: Borrowed("c"),
+            default: 1_000.0,
+            doc: Borrowed("viscous suspension damping, N s/m"),
+        },
+        ParamInfo {
+            name: Borrowed("h"),
+            default: 1_000.0,
+            doc: Borrowed("fractional damping coefficient, N s^p/m"),
+        },
+        ParamInfo { name: Borrowed("p"), default: 0.5, doc: Borrowed("fractional order") },
+        ParamInfo { name: Borrowed("F"), default: 0.01, doc: Borrowed("road amplitude, m") },
     ];
 
     const Z1: &[(usize, f64)] = &[(0, 1.0)];
     const Z2: &[(usize, f64)] = &[(1, 1.0)];
     const Y: &[(usize, f64)] = &[(0, 1.0), (1, -1.0)];
-    const SIGNALS: [Signal; 6] = [
-        Signal { terms: Z1, order: Order::Int(0) },
-        Signal { terms: Z2, order: Order::Int(0) },
-        Signal { terms: Z1, order: Order::Int(2) },
-        Signal { terms: Z2, order: Order::Int(2) },
-        Signal { terms: Y, order: Order::Int(1) },
-        Signal { terms: Y, order: Order::Param(7) },
+    const SIGNALS: &[Signal] = &[
+        Signal { terms: Borrowed(Z1), order: Order::Int(0) },
+        Signal { terms: Borrowed(Z2), order: Order::Int(0) },
+        Signal { terms: Borrowed(Z1), order: Order::Int(2) },
+        Signal { terms: Borrowed(Z2), order: Order::Int(2) },
+        Signal { terms: Borrowed(Y), order: Order::Int(1) },
+        Signal { terms: Borrowed(Y), order: Order::Param(7) },
     ];
-    const OUTPUTS: [Output; 3] = [
-        Output { name: "z1", terms: Z1 },
-        Output { name: "z2", terms: Z2 },
-        Output { name: "y", terms: Y },
+    const OUTPUTS: &[Output] = &[
+        Output { name: Borrowed("z1"), terms: Borrowed(Z1) },
+        Output { name: Borrowed("z2"), terms: Borrowed(Z2) },
+        Output { name: Borrowed("y"), terms: Borrowed(Y) },
     ];
 
     impl Default for QuarterCar {
@@ -94,17 +119,18 @@ pub mod quarter_car {
     }
 
     impl Model for QuarterCar {
-        fn name(&self) -> &'static str {
+        fn name(&self) -> &str {
             "quarter-car"
         }
-        fn description(&self) -> &'static str {
+        fn description(&self) -> &str {
             "Quarter-car suspension with a metal-rubber (fractional) element (reference paper, eq. 4)"
         }
-        fn dofs(&self) -> &'static [&'static str] {
-            &["z1", "z2"]
+        fn dofs(&self) -> &[Text] {
+            const DOFS: &[Text] = &[Borrowed("z1"), Borrowed("z2")];
+            DOFS
         }
-        fn params_info(&self) -> &'static [ParamInfo] {
-            &PARAMS
+        fn params_info(&self) -> &[ParamInfo] {
+            PARAMS
         }
         fn param_value(&self, index: usize) -> f64 {
             [self.m1, self.m2, self.k1, self.k3, self.kt, self.c, self.h, self.p, self.F][index]
@@ -112,21 +138,22 @@ pub mod quarter_car {
         fn set_param_value(&mut self, index: usize, value: f64) {
             *self.fields()[index] = value;
         }
-        fn signals(&self) -> &'static [Signal] {
-            &SIGNALS
+        fn signals(&self) -> &[Signal] {
+            SIGNALS
         }
-        fn outputs(&self) -> &'static [Output] {
-            &OUTPUTS
+        fn outputs(&self) -> &[Output] {
+            OUTPUTS
         }
         fn degree(&self) -> usize {
             3
         }
-        fn equations(&self) -> &'static [&'static str] {
-            &[
-                "m1 * D(z1, 2) + fs = 0",
-                "m2 * D(z2, 2) + kt * (z2 - F * cos(omega * t)) - fs = 0",
-                "where y = z1 - z2, fs = k1 * y + k3 * y^3 + c * D(y, 1) + h * D(y, p)",
-            ]
+        fn equations(&self) -> &[Text] {
+            const EQUATIONS: &[Text] = &[
+                Borrowed("m1 * D(z1, 2) + fs = 0"),
+                Borrowed("m2 * D(z2, 2) + kt * (z2 - F * cos(omega * t)) - fs = 0"),
+                Borrowed("where y = z1 - z2, fs = k1 * y + k3 * y^3 + c * D(y, 1) + h * D(y, p)"),
+            ];
+            EQUATIONS
         }
         #[inline]
         fn residual<D: DualNum<Primitive = f64> + Copy>(
@@ -149,11 +176,12 @@ pub mod quarter_car {
 /// Hand-written Duffing and fractional Duffing oscillators.
 pub mod duffing {
 
-    use crate::model::{Model, Order, Output, ParamInfo, Signal};
+    use crate::model::{Model, Order, Output, ParamInfo, Signal, Text};
     use num_dual::DualNum;
+    use std::borrow::Cow::Borrowed;
 
     const X: &[(usize, f64)] = &[(0, 1.0)];
-    const OUTPUTS: [Output; 1] = [Output { name: "x", terms: X }];
+    const OUTPUTS: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(X) }];
 
     /// `m x'' + c x' + k x + k3 x^3 = F cos Ωt`.
     #[derive(Debug, Clone, PartialEq)]
@@ -171,17 +199,17 @@ pub mod duffing {
         pub F: f64,
     }
 
-    const DUFFING_PARAMS: [ParamInfo; 5] = [
-        ParamInfo { name: "m", default: 1.0, doc: "mass, kg" },
-        ParamInfo { name: "c", default: 0.1, doc: "viscous damping, N s/m" },
-        ParamInfo { name: "k", default: 1.0, doc: "linear stiffness, N/m" },
-        ParamInfo { name: "k3", default: 1.0, doc: "cubic stiffness, N/m^3" },
-        ParamInfo { name: "F", default: 0.5, doc: "force amplitude, N" },
+    const DUFFING_PARAMS: &[ParamInfo] = &[
+        ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass, kg") },
+        ParamInfo { name: Borrowed("c"), default: 0.1, doc: Borrowed("viscous damping, N s/m") },
+        ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("linear stiffness, N/m") },
+        ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic stiffness, N/m^3") },
+        ParamInfo { name: Borrowed("F"), default: 0.5, doc: Borrowed("force amplitude, N") },
     ];
-    const DUFFING_SIGNALS: [Signal; 3] = [
-        Signal { terms: X, order: Order::Int(0) },
-        Signal { terms: X, order: Order::Int(1) },
-        Signal { terms: X, order: Order::Int(2) },
+    const DUFFING_SIGNALS: &[Signal] = &[
+        Signal { terms: Borrowed(X), order: Order::Int(0) },
+        Signal { terms: Borrowed(X), order: Order::Int(1) },
+        Signal { terms: Borrowed(X), order: Order::Int(2) },
     ];
 
     impl Default for Duffing {
@@ -191,17 +219,18 @@ pub mod duffing {
     }
 
     impl Model for Duffing {
-        fn name(&self) -> &'static str {
+        fn name(&self) -> &str {
             "duffing"
         }
-        fn description(&self) -> &'static str {
+        fn description(&self) -> &str {
             "Duffing oscillator m x'' + c x' + k x + k3 x^3 = F cos(Ωt)"
         }
-        fn dofs(&self) -> &'static [&'static str] {
-            &["x"]
+        fn dofs(&self) -> &[Text] {
+            const DOFS: &[Text] = &[Borrowed("x")];
+            DOFS
         }
-        fn params_info(&self) -> &'static [ParamInfo] {
-            &DUFFING_PARAMS
+        fn params_info(&self) -> &[ParamInfo] {
+            DUFFING_PARAMS
         }
         fn param_value(&self, index: usize) -> f64 {
             [self.m, self.c, self.k, self.k3, self.F][index]
@@ -209,17 +238,19 @@ pub mod duffing {
         fn set_param_value(&mut self, index: usize, value: f64) {
             *[&mut self.m, &mut self.c, &mut self.k, &mut self.k3, &mut self.F][index] = value;
         }
-        fn signals(&self) -> &'static [Signal] {
-            &DUFFING_SIGNALS
+        fn signals(&self) -> &[Signal] {
+            DUFFING_SIGNALS
         }
-        fn outputs(&self) -> &'static [Output] {
-            &OUTPUTS
+        fn outputs(&self) -> &[Output] {
+            OUTPUTS
         }
         fn degree(&self) -> usize {
             3
         }
-        fn equations(&self) -> &'static [&'static str] {
-            &["m * D(x, 2) + c * D(x, 1) + k * x + k3 * x^3 = F * cos(omega * t)"]
+        fn equations(&self) -> &[Text] {
+            const EQUATIONS: &[Text] =
+                &[Borrowed("m * D(x, 2) + c * D(x, 1) + k * x + k3 * x^3 = F * cos(omega * t)")];
+            EQUATIONS
         }
         #[inline]
         fn residual<D: DualNum<Primitive = f64> + Copy>(
@@ -255,20 +286,24 @@ pub mod duffing {
         pub F: f64,
     }
 
-    const FRAC_PARAMS: [ParamInfo; 7] = [
-        ParamInfo { name: "m", default: 1.0, doc: "mass, kg" },
-        ParamInfo { name: "c", default: 0.05, doc: "viscous damping, N s/m" },
-        ParamInfo { name: "k", default: 1.0, doc: "linear stiffness, N/m" },
-        ParamInfo { name: "k3", default: 1.0, doc: "cubic stiffness, N/m^3" },
-        ParamInfo { name: "h", default: 0.1, doc: "fractional damping coefficient, N s^p/m" },
-        ParamInfo { name: "p", default: 0.5, doc: "fractional order" },
-        ParamInfo { name: "F", default: 0.5, doc: "force amplitude, N" },
+    const FRAC_PARAMS: &[ParamInfo] = &[
+        ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass, kg") },
+        ParamInfo { name: Borrowed("c"), default: 0.05, doc: Borrowed("viscous damping, N s/m") },
+        ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("linear stiffness, N/m") },
+        ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic stiffness, N/m^3") },
+        ParamInfo {
+            name: Borrowed("h"),
+            default: 0.1,
+            doc: Borrowed("fractional damping coefficient, N s^p/m"),
+        },
+        ParamInfo { name: Borrowed("p"), default: 0.5, doc: Borrowed("fractional order") },
+        ParamInfo { name: Borrowed("F"), default: 0.5, doc: Borrowed("force amplitude, N") },
     ];
-    const FRAC_SIGNALS: [Signal; 4] = [
-        Signal { terms: X, order: Order::Int(0) },
-        Signal { terms: X, order: Order::Int(1) },
-        Signal { terms: X, order: Order::Int(2) },
-        Signal { terms: X, order: Order::Param(5) },
+    const FRAC_SIGNALS: &[Signal] = &[
+        Signal { terms: Borrowed(X), order: Order::Int(0) },
+        Signal { terms: Borrowed(X), order: Order::Int(1) },
+        Signal { terms: Borrowed(X), order: Order::Int(2) },
+        Signal { terms: Borrowed(X), order: Order::Param(5) },
     ];
 
     impl Default for FractionalDuffing {
@@ -278,17 +313,18 @@ pub mod duffing {
     }
 
     impl Model for FractionalDuffing {
-        fn name(&self) -> &'static str {
+        fn name(&self) -> &str {
             "fractional-duffing"
         }
-        fn description(&self) -> &'static str {
+        fn description(&self) -> &str {
             "Fractional Duffing oscillator m x'' + c x' + k x + k3 x^3 + h D^p x = F cos(Ωt)"
         }
-        fn dofs(&self) -> &'static [&'static str] {
-            &["x"]
+        fn dofs(&self) -> &[Text] {
+            const DOFS: &[Text] = &[Borrowed("x")];
+            DOFS
         }
-        fn params_info(&self) -> &'static [ParamInfo] {
-            &FRAC_PARAMS
+        fn params_info(&self) -> &[ParamInfo] {
+            FRAC_PARAMS
         }
         fn param_value(&self, index: usize) -> f64 {
             [self.m, self.c, self.k, self.k3, self.h, self.p, self.F][index]
@@ -304,17 +340,20 @@ pub mod duffing {
                 &mut self.F,
             ][index] = value;
         }
-        fn signals(&self) -> &'static [Signal] {
-            &FRAC_SIGNALS
+        fn signals(&self) -> &[Signal] {
+            FRAC_SIGNALS
         }
-        fn outputs(&self) -> &'static [Output] {
-            &OUTPUTS
+        fn outputs(&self) -> &[Output] {
+            OUTPUTS
         }
         fn degree(&self) -> usize {
             3
         }
-        fn equations(&self) -> &'static [&'static str] {
-            &["m * D(x, 2) + c * D(x, 1) + k * x + k3 * x^3 + h * D(x, p) = F * cos(omega * t)"]
+        fn equations(&self) -> &[Text] {
+            const EQUATIONS: &[Text] = &[Borrowed(
+                "m * D(x, 2) + c * D(x, 1) + k * x + k3 * x^3 + h * D(x, p) = F * cos(omega * t)",
+            )];
+            EQUATIONS
         }
         #[inline]
         fn residual<D: DualNum<Primitive = f64> + Copy>(

@@ -322,7 +322,7 @@ impl<'m, M: Model> Balance<'m, M> {
         let l = coeff_len(self.n);
         for (s, sig) in self.model.signals().iter().enumerate() {
             self.comb.fill(0.0);
-            for &(d, c) in sig.terms {
+            for &(d, c) in sig.terms.iter() {
                 for (x, y) in self.comb.iter_mut().zip(&a[d * l..(d + 1) * l]) {
                     *x += c * y;
                 }
@@ -435,14 +435,14 @@ impl<'m, M: Model> Balance<'m, M> {
                 if self.affine[s] || g.iter().all(|&x| x == g0) {
                     // a linear term: multiplication by a constant is diagonal
                     if g0 != 0.0 {
-                        for &(d, c) in sig.terms {
+                        for &(d, c) in sig.terms.iter() {
                             add_diagonal_block(jac.rb_mut(), self.n, e, d, c * g0, lam);
                         }
                     }
                     continue;
                 }
                 self.fourier.spectrum(g, &mut self.ghat);
-                for &(d, c) in sig.terms {
+                for &(d, c) in sig.terms.iter() {
                     add_block(jac.rb_mut(), self.n, e, d, c, &self.ghat, &mut self.ext, lam);
                 }
             }
@@ -543,7 +543,7 @@ impl<'m, M: Model> Balance<'m, M> {
             }
             self.seeded[s] = true;
             self.comb.fill(0.0);
-            for &(d, c) in sig.terms {
+            for &(d, c) in sig.terms.iter() {
                 for (x, y) in self.comb.iter_mut().zip(&a[d * l..(d + 1) * l]) {
                     *x += c * y;
                 }
@@ -681,7 +681,7 @@ pub(crate) fn linearized_on<M: Model>(
         for e in 0..ndof {
             for (s, sig) in model.signals().iter().enumerate() {
                 let lam = spectral_factor(k, omega, hb.orders[s]);
-                for &(d, c) in sig.terms {
+                for &(d, c) in sig.terms.iter() {
                     t[e * ndof + d] += lam * (gbar[e * nsig + s] * c);
                 }
             }

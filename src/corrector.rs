@@ -193,7 +193,7 @@ pub fn output_coeffs<M: Model>(
 ) -> Vec<f64> {
     let l = coeff_len(harmonics);
     let mut out = vec![0.0; l];
-    for &(d, c) in model.outputs()[output].terms {
+    for &(d, c) in model.outputs()[output].terms.iter() {
         for (o, x) in out.iter_mut().zip(&coeffs[d * l..(d + 1) * l]) {
             *o += c * x;
         }

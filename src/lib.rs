@@ -15,8 +15,8 @@
 // this crate too, for the built-in models.
 extern crate self as ihbm;
 
+// The mathematics: builds with `default-features = false`.
 pub mod balance;
-pub mod cli;
 pub mod continuation;
 pub mod corrector;
 pub mod error;
@@ -25,12 +25,22 @@ pub mod linalg;
 pub mod model;
 #[path = "../models/mod.rs"]
 pub mod models;
-pub mod report;
 pub mod results;
 pub mod stability;
-pub mod study;
 pub mod timedomain;
 
+// The application (feature `cli`, on by default): reports, the settings-driven
+// engine shared by the command line and studies, studies, the command line.
+#[cfg(feature = "cli")]
+mod cli;
+#[cfg(feature = "cli")]
+pub mod engine;
+#[cfg(feature = "cli")]
+pub mod report;
+#[cfg(feature = "cli")]
+pub mod study;
+
+#[cfg(feature = "cli")]
 pub use cli::Cli;
 pub use error::{Error, Result};
 /// Declare a model in the DSL: parameters with defaults, DOFs, `let` aliases,

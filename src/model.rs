@@ -11,6 +11,15 @@
 
 use crate::error::Error;
 use num_dual::DualNum;
+use std::borrow::Cow;
+
+/// Text a model owns or borrows: `Cow::Borrowed` for the `'static` data `oscillator!`
+/// generates, `Cow::Owned` for a model built at run time (a chain sized in a loop, a
+/// model read from a file).
+pub type Text = Cow<'static, str>;
+
+/// `(dof index, coefficient)` pairs of a linear combination of DOFs, borrowed or owned.
+pub type Terms = Cow<'static, [(usize, f64)]>;
 
 /// The derivative order of a signal.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,75 +32,79 @@ pub enum Order {
 }
 
 /// One signal the residual reads: `D^order (Σ coef · x_dof)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Signal {
     /// The linear combination of DOFs, as `(dof index, coefficient)` pairs.
-    pub terms: &'static [(usize, f64)],
+    pub terms: Terms,
     /// The derivative order applied to the combination.
     pub order: Order,
 }
 
 /// A named observable: a linear combination of DOFs that results report.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Output {
     /// The name used in JSON, CSV and plots.
-    pub name: &'static str,
+    pub name: Text,
     /// `(dof index, coefficient)` pairs.
-    pub terms: &'static [(usize, f64)],
+    pub terms: Terms,
 }
 
 /// A declared parameter: name, default value and a line of documentation (units).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ParamInfo {
     /// Name used by `--set NAME=VALUE` and study files.
-    pub name: &'static str,
+    pub name: Text,
     /// The declared default value.
     pub default: f64,
     /// What it is, with units.
-    pub doc: &'static str,
+    pub doc: Text,
 }
 
 /// An oscillator whose periodic steady state the solvers can compute.
 ///
 /// Implement it by hand or let [`oscillator!`](crate::oscillator) generate it.
-/// Parameters are addressed by index in the order of [`Model::params_info`].
+/// Parameters are addressed by index in the order of [`Model::params_info`]. The
+/// metadata (names, signals, outputs) is borrowed from `self`, so a model decided at
+/// run time — its DOF count, parameters and signals built in a loop or read from a
+/// file — implements the trait as well as a generated one (whose data is `'static`).
+/// The book's chapter "Writing your own model" builds an n-mass chain that way.
 ///
 /// ```
-/// use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
+/// use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
 /// use num_dual::DualNum;
+/// use std::borrow::Cow::Borrowed;
 ///
 /// /// m x'' + c x' + k x = F cos(Ωt)
 /// #[derive(Clone, Default)]
 /// struct Linear { m: f64, c: f64, k: f64, f: f64 }
 ///
 /// impl Model for Linear {
-///     fn name(&self) -> &'static str { "linear" }
-///     fn dofs(&self) -> &'static [&'static str] { &["x"] }
-///     fn params_info(&self) -> &'static [ParamInfo] {
-///         const P: [ParamInfo; 4] = [
-///             ParamInfo { name: "m", default: 1.0, doc: "mass (kg)" },
-///             ParamInfo { name: "c", default: 0.1, doc: "damping (N s/m)" },
-///             ParamInfo { name: "k", default: 1.0, doc: "stiffness (N/m)" },
-///             ParamInfo { name: "F", default: 1.0, doc: "force amplitude (N)" },
+///     fn name(&self) -> &str { "linear" }
+///     fn dofs(&self) -> &[Text] { &[Borrowed("x")] }
+///     fn params_info(&self) -> &[ParamInfo] {
+///         const P: &[ParamInfo] = &[
+///             ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass (kg)") },
+///             ParamInfo { name: Borrowed("c"), default: 0.1, doc: Borrowed("damping (N s/m)") },
+///             ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("stiffness (N/m)") },
+///             ParamInfo { name: Borrowed("F"), default: 1.0, doc: Borrowed("force amplitude (N)") },
 ///         ];
-///         &P
+///         P
 ///     }
 ///     fn param_value(&self, i: usize) -> f64 { [self.m, self.c, self.k, self.f][i] }
 ///     fn set_param_value(&mut self, i: usize, v: f64) {
 ///         *[&mut self.m, &mut self.c, &mut self.k, &mut self.f][i] = v;
 ///     }
-///     fn signals(&self) -> &'static [Signal] {
-///         const X: &[(usize, f64)] = &[(0, 1.0)];
-///         const S: [Signal; 3] = [
-///             Signal { terms: X, order: Order::Int(0) },
-///             Signal { terms: X, order: Order::Int(1) },
-///             Signal { terms: X, order: Order::Int(2) },
+///     fn signals(&self) -> &[Signal] {
+///         const S: &[Signal] = &[
+///             Signal { terms: Borrowed(&[(0, 1.0)]), order: Order::Int(0) },
+///             Signal { terms: Borrowed(&[(0, 1.0)]), order: Order::Int(1) },
+///             Signal { terms: Borrowed(&[(0, 1.0)]), order: Order::Int(2) },
 ///         ];
-///         &S
+///         S
 ///     }
-///     fn outputs(&self) -> &'static [Output] {
-///         const O: [Output; 1] = [Output { name: "x", terms: &[(0, 1.0)] }];
-///         &O
+///     fn outputs(&self) -> &[Output] {
+///         const O: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(&[(0, 1.0)]) }];
+///         O
 ///     }
 ///     fn degree(&self) -> usize { 1 }
 ///     fn residual<D: DualNum<Primitive = f64> + Copy>(
@@ -108,18 +121,18 @@ pub struct ParamInfo {
 /// ```
 pub trait Model: Send + Sync {
     /// A short name (the CLI's model name for built-in models).
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
 
     /// One line (or a paragraph) saying what the model is.
-    fn description(&self) -> &'static str {
+    fn description(&self) -> &str {
         ""
     }
 
     /// Names of the degrees of freedom, in coefficient order.
-    fn dofs(&self) -> &'static [&'static str];
+    fn dofs(&self) -> &[Text];
 
     /// Declared parameters: names, defaults, docs.
-    fn params_info(&self) -> &'static [ParamInfo];
+    fn params_info(&self) -> &[ParamInfo];
 
     /// The current value of parameter `index` (`index < params_info().len()`).
     fn param_value(&self, index: usize) -> f64;
@@ -128,10 +141,10 @@ pub trait Model: Send + Sync {
     fn set_param_value(&mut self, index: usize, value: f64);
 
     /// The signals the residual reads, in the order of its `signals` argument.
-    fn signals(&self) -> &'static [Signal];
+    fn signals(&self) -> &[Signal];
 
     /// Named observables reported in results.
-    fn outputs(&self) -> &'static [Output];
+    fn outputs(&self) -> &[Output];
 
     /// Polynomial degree of the residual in the signals (1 for a linear model, 3 for
     /// a cubic spring). Sets the alias-free sample count.
@@ -143,7 +156,7 @@ pub trait Model: Send + Sync {
     }
 
     /// The equations as text, for `ihbm models NAME`.
-    fn equations(&self) -> &'static [&'static str] {
+    fn equations(&self) -> &[Text] {
         &[]
     }
 
@@ -154,7 +167,7 @@ pub trait Model: Send + Sync {
     /// means "unknown": every signal is treated as nonlinear. `oscillator!` derives it
     /// from the equations; [`Balance::new`](crate::balance::Balance::new) checks a
     /// hand-written claim at random states and rejects a wrong one.
-    fn affine_signals(&self) -> &'static [bool] {
+    fn affine_signals(&self) -> &[bool] {
         &[]
     }
 
@@ -190,7 +203,7 @@ pub trait Model: Send + Sync {
             Error::UnknownParameter {
                 name: name.to_string(),
                 model: self.name().to_string(),
-                known: self.params_info().iter().map(|p| p.name).collect::<Vec<_>>().join(", "),
+                known: self.params_info().iter().map(|p| &*p.name).collect::<Vec<_>>().join(", "),
             }
         })
     }
@@ -224,7 +237,7 @@ pub trait Model: Send + Sync {
         self.outputs().iter().position(|o| o.name == name).ok_or_else(|| Error::UnknownOutput {
             name: name.to_string(),
             model: self.name().to_string(),
-            known: self.outputs().iter().map(|o| o.name).collect::<Vec<_>>().join(", "),
+            known: self.outputs().iter().map(|o| &*o.name).collect::<Vec<_>>().join(", "),
         })
     }
 

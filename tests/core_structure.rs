@@ -4,9 +4,10 @@
 //! refused instead of silently giving wrong Jacobians.
 
 use ihbm::balance::Balance;
-use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
+use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
 use num_dual::DualNum;
+use std::borrow::Cow::Borrowed;
 
 #[test]
 fn the_macro_reads_the_structure_off_the_equations() {
@@ -67,37 +68,39 @@ struct Claims {
 }
 
 impl Model for Claims {
-    fn name(&self) -> &'static str {
+    fn name(&self) -> &str {
         "claims"
     }
-    fn dofs(&self) -> &'static [&'static str] {
-        &["x"]
+    fn dofs(&self) -> &[Text] {
+        const DOFS: &[Text] = &[Borrowed("x")];
+        DOFS
     }
-    fn params_info(&self) -> &'static [ParamInfo] {
-        const P: [ParamInfo; 1] = [ParamInfo { name: "k3", default: 1.0, doc: "cubic" }];
-        &P
+    fn params_info(&self) -> &[ParamInfo] {
+        const P: &[ParamInfo] =
+            &[ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic") }];
+        P
     }
     fn param_value(&self, _: usize) -> f64 {
         1.0
     }
     fn set_param_value(&mut self, _: usize, _: f64) {}
-    fn signals(&self) -> &'static [Signal] {
+    fn signals(&self) -> &[Signal] {
         const X: &[(usize, f64)] = &[(0, 1.0)];
-        const S: [Signal; 3] = [
-            Signal { terms: X, order: Order::Int(0) },
-            Signal { terms: X, order: Order::Int(1) },
-            Signal { terms: X, order: Order::Int(2) },
+        const S: &[Signal] = &[
+            Signal { terms: Borrowed(X), order: Order::Int(0) },
+            Signal { terms: Borrowed(X), order: Order::Int(1) },
+            Signal { terms: Borrowed(X), order: Order::Int(2) },
         ];
-        &S
+        S
     }
-    fn outputs(&self) -> &'static [Output] {
-        const O: [Output; 1] = [Output { name: "x", terms: &[(0, 1.0)] }];
-        &O
+    fn outputs(&self) -> &[Output] {
+        const O: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(&[(0, 1.0)]) }];
+        O
     }
     fn degree(&self) -> usize {
         3
     }
-    fn affine_signals(&self) -> &'static [bool] {
+    fn affine_signals(&self) -> &[bool] {
         self.affine
     }
     fn explicit_omega(&self) -> bool {

@@ -49,7 +49,7 @@ fn metadata() {
     assert_eq!(m.b, -0.5);
     assert_eq!(m.degree(), 5);
     assert_eq!(m.max_forcing_harmonic(), 3);
-    assert_eq!(m.outputs()[2].terms, &[(0, 0.5), (1, -1.0)]);
+    assert_eq!(*m.outputs()[2].terms, [(0, 0.5), (1, -1.0)]);
     assert_eq!(m.params_info()[1].doc, "a negative default");
     // x, y, D²x, D²y, Dx, Dy, D^p x, D^p y, D(x - y): nine distinct signals
     assert_eq!(m.signals().len(), 9);

@@ -177,15 +177,15 @@ fn generated_metadata_is_what_was_declared() {
     assert_eq!(ch.degree(), 3);
     assert_eq!(ch.max_forcing_harmonic(), 2);
     assert_eq!(ch.dofs(), &["x1", "x2"]);
-    let names: Vec<&str> = ch.outputs().iter().map(|o| o.name).collect();
+    let names: Vec<&str> = ch.outputs().iter().map(|o| &*o.name).collect();
     assert_eq!(names, ["x1", "x2", "rel"]);
-    assert_eq!(ch.outputs()[2].terms, &[(0, 1.0), (1, -1.0)]);
+    assert_eq!(*ch.outputs()[2].terms, [(0, 1.0), (1, -1.0)]);
     // D(rel, p) is one signal on x1 - x2 of order Param(p)
     let p = ch.param_index("p").unwrap();
     assert!(ch
         .signals()
         .iter()
-        .any(|s| s.terms == [(0, 1.0), (1, -1.0)] && s.order == ihbm::model::Order::Param(p)));
+        .any(|s| *s.terms == [(0, 1.0), (1, -1.0)] && s.order == ihbm::model::Order::Param(p)));
     assert_eq!(ch.params_info()[3].doc, "cubic damping of mass 1 to ground, N s^3/m^3");
 
     let qc = QuarterCar::default();

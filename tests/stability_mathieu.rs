@@ -9,10 +9,11 @@ mod stability_common;
 
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
-use ihbm::model::{Model, Order, Output, ParamInfo, Signal};
+use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::results::BifurcationKind;
 use ihbm::stability::{Hill, StabilityOptions};
 use num_dual::DualNum;
+use std::borrow::Cow::Borrowed;
 
 #[derive(Clone)]
 struct Mathieu {
@@ -26,21 +27,22 @@ struct Mathieu {
 const X: &[(usize, f64)] = &[(0, 1.0)];
 
 impl Model for Mathieu {
-    fn name(&self) -> &'static str {
+    fn name(&self) -> &str {
         "mathieu"
     }
-    fn dofs(&self) -> &'static [&'static str] {
-        &["x"]
+    fn dofs(&self) -> &[Text] {
+        const DOFS: &[Text] = &[Borrowed("x")];
+        DOFS
     }
-    fn params_info(&self) -> &'static [ParamInfo] {
-        const P: [ParamInfo; 5] = [
-            ParamInfo { name: "m", default: 1.0, doc: "" },
-            ParamInfo { name: "c", default: 0.05, doc: "" },
-            ParamInfo { name: "k", default: 1.0, doc: "" },
-            ParamInfo { name: "eps", default: 0.4, doc: "" },
-            ParamInfo { name: "F", default: 0.1, doc: "" },
+    fn params_info(&self) -> &[ParamInfo] {
+        const P: &[ParamInfo] = &[
+            ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("") },
+            ParamInfo { name: Borrowed("c"), default: 0.05, doc: Borrowed("") },
+            ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("") },
+            ParamInfo { name: Borrowed("eps"), default: 0.4, doc: Borrowed("") },
+            ParamInfo { name: Borrowed("F"), default: 0.1, doc: Borrowed("") },
         ];
-        &P
+        P
     }
     fn param_value(&self, i: usize) -> f64 {
         [self.m, self.c, self.k, self.eps, self.f][i]
@@ -48,17 +50,17 @@ impl Model for Mathieu {
     fn set_param_value(&mut self, i: usize, v: f64) {
         *[&mut self.m, &mut self.c, &mut self.k, &mut self.eps, &mut self.f][i] = v;
     }
-    fn signals(&self) -> &'static [Signal] {
-        const S: [Signal; 3] = [
-            Signal { terms: X, order: Order::Int(0) },
-            Signal { terms: X, order: Order::Int(1) },
-            Signal { terms: X, order: Order::Int(2) },
+    fn signals(&self) -> &[Signal] {
+        const S: &[Signal] = &[
+            Signal { terms: Borrowed(X), order: Order::Int(0) },
+            Signal { terms: Borrowed(X), order: Order::Int(1) },
+            Signal { terms: Borrowed(X), order: Order::Int(2) },
         ];
-        &S
+        S
     }
-    fn outputs(&self) -> &'static [Output] {
-        const O: [Output; 1] = [Output { name: "x", terms: X }];
-        &O
+    fn outputs(&self) -> &[Output] {
+        const O: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(X) }];
+        O
     }
     /// The parametric term `cos(Ωt) x` doubles the harmonic content like a square.
     fn degree(&self) -> usize {

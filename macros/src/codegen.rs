@@ -189,7 +189,11 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
         let name = p.name.to_string();
         let v = float(p.default);
         let doc = &p.doc;
-        quote!(::ihbm::model::ParamInfo { name: #name, default: #v, doc: #doc })
+        quote!(::ihbm::model::ParamInfo {
+            name: ::std::borrow::Cow::Borrowed(#name),
+            default: #v,
+            doc: ::std::borrow::Cow::Borrowed(#doc),
+        })
     });
     let nparams = def.params.len();
     let get_arms = def.params.iter().enumerate().map(|(i, p)| {
@@ -200,13 +204,16 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
         let name = &p.name;
         quote!(#i => self.#name = value)
     });
-    let dofs = def.dofs.iter().map(|d| d.to_string());
+    let dofs = def.dofs.iter().map(|d| {
+        let d = d.to_string();
+        quote!(::std::borrow::Cow::Borrowed(#d))
+    });
     let terms = |t: &[(usize, f64)]| {
         let pairs = t.iter().map(|(d, c)| {
             let c = float(*c);
             quote!((#d, #c))
         });
-        quote!(&[#(#pairs),*])
+        quote!(::std::borrow::Cow::Borrowed(&[#(#pairs),*]))
     };
     let signals = a.signals.iter().map(|s| {
         let t = terms(&s.terms);
@@ -218,7 +225,7 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
     });
     let outputs = a.outputs.iter().map(|(name, t)| {
         let t = terms(t);
-        quote!(::ihbm::model::Output { name: #name, terms: #t })
+        quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), terms: #t })
     });
     let degree = a.degree as usize;
     let max_k = a.max_k.max(1) as usize;
@@ -302,16 +309,17 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
 
         #[allow(non_snake_case, clippy::all)]
         impl ::ihbm::model::Model for #ident {
-            fn name(&self) -> &'static str {
+            fn name(&self) -> &str {
                 #model_name
             }
-            fn description(&self) -> &'static str {
+            fn description(&self) -> &str {
                 #description
             }
-            fn dofs(&self) -> &'static [&'static str] {
-                &[#(#dofs),*]
+            fn dofs(&self) -> &[::ihbm::model::Text] {
+                const __DOFS: &[::ihbm::model::Text] = &[#(#dofs),*];
+                __DOFS
             }
-            fn params_info(&self) -> &'static [::ihbm::model::ParamInfo] {
+            fn params_info(&self) -> &[::ihbm::model::ParamInfo] {
                 const __INFO: &[::ihbm::model::ParamInfo] = &[#(#infos),*];
                 __INFO
             }
@@ -327,11 +335,11 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
                     _ => ::core::panic!("parameter index {} out of range: model `{}` has {} parameters", index, #model_name, #nparams),
                 }
             }
-            fn signals(&self) -> &'static [::ihbm::model::Signal] {
+            fn signals(&self) -> &[::ihbm::model::Signal] {
                 const __SIGNALS: &[::ihbm::model::Signal] = &[#(#signals),*];
                 __SIGNALS
             }
-            fn outputs(&self) -> &'static [::ihbm::model::Output] {
+            fn outputs(&self) -> &[::ihbm::model::Output] {
                 const __OUTPUTS: &[::ihbm::model::Output] = &[#(#outputs),*];
                 __OUTPUTS
             }
@@ -341,10 +349,12 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
             fn max_forcing_harmonic(&self) -> usize {
                 #max_k
             }
-            fn equations(&self) -> &'static [&'static str] {
-                &[#(#eq_text),*]
+            fn equations(&self) -> &[::ihbm::model::Text] {
+                const __EQUATIONS: &[::ihbm::model::Text] =
+                    &[#(::std::borrow::Cow::Borrowed(#eq_text)),*];
+                __EQUATIONS
             }
-            fn affine_signals(&self) -> &'static [bool] {
+            fn affine_signals(&self) -> &[bool] {
                 &[#(#affine),*]
             }
             fn explicit_omega(&self) -> bool {

@@ -1,7 +1,7 @@
 //! The command line of CONTRACT section 2, as clap derive types.
 
-use super::engine::SchemeName;
-use super::settings::{Bound, PredictorName, SweepSettings};
+use crate::engine::settings::{Bound, PredictorName, SweepSettings};
+use crate::engine::SchemeName;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 

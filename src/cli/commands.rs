@@ -1,10 +1,10 @@
 //! What each subcommand does, given parsed arguments and the registered models.
 
 use super::args::{Command, CurveArgs};
-use super::engine::{ParamRange, SimSettings, SolveSettings};
-use super::progress;
-use super::registry::{AnyModel, Registry};
 use super::Failure;
+use crate::engine::progress;
+use crate::engine::registry::{AnyModel, Registry};
+use crate::engine::{ParamRange, SimSettings, SolveSettings};
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
 use crate::results::Curve;
@@ -268,7 +268,7 @@ fn models(reg: &Registry, name: Option<&str>, out: &mut dyn Write) -> Result<(),
         out,
         format_args!(
             "outputs: {}\n",
-            m.outputs().iter().map(|o| o.name).collect::<Vec<_>>().join(", ")
+            m.outputs().iter().map(|o| &*o.name).collect::<Vec<_>>().join(", ")
         ),
     )?;
     if !m.equations().is_empty() {

@@ -7,16 +7,12 @@
 //! written — or a study with failed parts, whose finished parts are still written).
 //! Every failure prints one line `error: ...` on standard error.
 
-pub mod args;
+mod args;
 mod commands;
-pub mod engine;
-pub mod progress;
-pub mod registry;
-pub mod settings;
 
+use crate::engine::registry::Registry;
 use crate::model::Model;
 use clap::Parser;
-use registry::Registry;
 use std::ffi::OsString;
 use std::io::Write;
 use std::process::ExitCode;
@@ -88,8 +84,8 @@ impl Cli {
 
     /// Register `M::default()` under its own [`Model::name`].
     pub fn own_name<M: Model + Default + Clone + 'static>(self) -> Self {
-        let name = M::default().name();
-        self.model::<M>(name)
+        let model = M::default();
+        self.model::<M>(model.name())
     }
 
     /// Register `M::default()` under `name`.

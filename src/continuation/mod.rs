@@ -193,7 +193,8 @@ pub fn sweep_param<M: Model>(
 }
 
 /// Frequency sweeps of a family of models that differ in `param`, run in parallel
-/// (rayon, one curve per task). One result per value, in order.
+/// (rayon, one curve per task; feature `parallel`). One result per value, in order.
+#[cfg(feature = "parallel")]
 pub fn sweep_family<M: Model + Clone>(
     model: &M,
     param: &str,

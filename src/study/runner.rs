@@ -4,9 +4,9 @@
 use super::claims::{fmt_num, Member, TdRow};
 use super::spec::{apply, Study};
 use super::summary::{self, FigureResult};
-use crate::cli::engine::{SimSettings, SolveSettings, SweepSettings};
-use crate::cli::progress;
-use crate::cli::registry::{AnyModel, Registry};
+use crate::engine::progress;
+use crate::engine::registry::{AnyModel, Registry};
+use crate::engine::{SimSettings, SolveSettings, SweepSettings};
 use crate::error::{Error, Result};
 use crate::report::{self, Figure, FreqUnit, Panel, Series, SimRecord, SolveRecord, TimeMarker};
 use crate::results::Curve;

@@ -35,8 +35,8 @@
 //! Unknown keys and wrong types are errors naming the file, line and column.
 //! Time-domain points use the figure's parameters without the varied one.
 
-use crate::cli::engine::{SchemeName, SweepSettings};
-use crate::cli::registry::{AnyModel, Registry};
+use crate::engine::registry::{AnyModel, Registry};
+use crate::engine::{SchemeName, SweepSettings};
 use crate::error::{Error, Result};
 use crate::report::FreqUnit;
 use serde::Deserialize;
@@ -359,7 +359,7 @@ impl Study {
             }
             for c in &fig.checks {
                 if let Some(o) = &c.output {
-                    m.outputs().iter().find(|x| x.name == o).ok_or_else(|| {
+                    m.outputs().iter().find(|x| *x.name == **o).ok_or_else(|| {
                         self.whole(format!(
                             "figure '{id}': check output '{o}' is not an output of model '{}'",
                             m.name()
@@ -422,8 +422,8 @@ pub(crate) fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Res
 
 fn check_outputs(study: &Study, m: &dyn AnyModel, outs: &[Spanned<String>]) -> Result<()> {
     for o in outs {
-        if !m.outputs().iter().any(|x| x.name == o.get_ref()) {
-            let known: Vec<&str> = m.outputs().iter().map(|x| x.name).collect();
+        if !m.outputs().iter().any(|x| *x.name == **o.get_ref()) {
+            let known: Vec<&str> = m.outputs().iter().map(|x| &*x.name).collect();
             return Err(study.at(
                 o.span(),
                 format!(

@@ -160,25 +160,6 @@ pub struct Simulation {
     pub trajectory: Option<Trajectory>,
 }
 
-impl Simulation {
-    /// The JSON of `ihbm simulate --json` (CONTRACT section 2), plus `steps`,
-    /// `duration`, `memory` and a `drift` per output.
-    pub fn contract_json(&self) -> serde_json::Value {
-        let mut outputs = serde_json::Map::new();
-        for o in &self.outputs {
-            outputs.insert(
-                o.name.clone(),
-                serde_json::json!({ "max_abs": o.max_abs, "mean": o.mean, "drift": o.drift }),
-            );
-        }
-        serde_json::json!({
-            "model": self.model, "omega": self.omega, "dt": self.dt, "periods": self.periods,
-            "scheme": self.scheme.name(), "steps": self.steps, "duration": self.duration,
-            "memory": self.memory, "outputs": outputs,
-        })
-    }
-}
-
 fn invalid(what: &str, value: impl ToString, expected: impl Into<String>) -> Error {
     Error::InvalidValue { what: what.into(), value: value.to_string(), expected: expected.into() }
 }
@@ -280,7 +261,7 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
         outputs: outs
             .iter()
             .zip(&tail)
-            .map(|(o, s)| steady::summarize(o.name, s, window))
+            .map(|(o, s)| steady::summarize(&o.name, s, window))
             .collect(),
         newton_iterations,
         newton_max,

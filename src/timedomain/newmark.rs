@@ -284,7 +284,7 @@ impl<'m, M: Model> Stepper<'m, M> {
                 for (i, s) in signals.iter().enumerate() {
                     let mut comb = 0.0;
                     let mut dcomb = 0.0;
-                    for &(k, c) in s.terms {
+                    for &(k, c) in s.terms.iter() {
                         comb += c * self.a_new[k];
                         if k == d {
                             dcomb += c;

@@ -70,9 +70,9 @@ pub fn rel_diff(x: &[f64], y: &[f64], floor: f64) -> f64 {
 /// Set every parameter to its default times a factor from `factors` (cycled), keeping
 /// the parameters named in `keep` (e.g. fractional orders set by the caller).
 pub fn scale_params<M: Model>(model: &mut M, factors: &[f64], keep: &[&str]) {
-    let info = model.params_info();
+    let info = model.params_info().to_vec();
     for (i, p) in info.iter().enumerate() {
-        if keep.contains(&p.name) {
+        if keep.contains(&&*p.name) {
             continue;
         }
         let f = factors[i % factors.len()];

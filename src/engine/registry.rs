@@ -4,9 +4,9 @@
 //! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
 //! monomorphises solve, sweep and simulate for `M`.
 
-use super::engine::{self, ParamRange, SimSettings, SolveSettings, SweepSettings};
+use super::{self as engine, ParamRange, SimSettings, SolveSettings, SweepSettings};
 use crate::error::{Error, Result};
-use crate::model::{Model, Output, ParamInfo};
+use crate::model::{Model, Output, ParamInfo, Text};
 use crate::report::{SimRecord, SolveRecord};
 use crate::results::Curve;
 
@@ -15,19 +15,19 @@ pub trait AnyModel: Send + Sync {
     /// The registered name (the CLI's `NAME`).
     fn name(&self) -> &str;
     /// The model's description.
-    fn description(&self) -> &'static str;
+    fn description(&self) -> &str;
     /// Degrees of freedom.
-    fn dofs(&self) -> &'static [&'static str];
+    fn dofs(&self) -> &[Text];
     /// Declared parameters.
-    fn params_info(&self) -> &'static [ParamInfo];
+    fn params_info(&self) -> &[ParamInfo];
     /// Current value of parameter `i`.
     fn param_value(&self, i: usize) -> f64;
     /// Set a parameter by name (unknown names and non-finite values are errors).
     fn set_param(&mut self, name: &str, value: f64) -> Result<()>;
     /// Named outputs.
-    fn outputs(&self) -> &'static [Output];
+    fn outputs(&self) -> &[Output];
     /// Equations as text.
-    fn equations(&self) -> &'static [&'static str];
+    fn equations(&self) -> &[Text];
     /// Solve at one frequency.
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
     /// Trace a frequency sweep.
@@ -70,13 +70,13 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     fn name(&self) -> &str {
         &self.name
     }
-    fn description(&self) -> &'static str {
+    fn description(&self) -> &str {
         self.model.description()
     }
-    fn dofs(&self) -> &'static [&'static str] {
+    fn dofs(&self) -> &[Text] {
         self.model.dofs()
     }
-    fn params_info(&self) -> &'static [ParamInfo] {
+    fn params_info(&self) -> &[ParamInfo] {
         self.model.params_info()
     }
     fn param_value(&self, i: usize) -> f64 {
@@ -85,10 +85,10 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     fn set_param(&mut self, name: &str, value: f64) -> Result<()> {
         self.model.set_param(name, value).map_err(|e| self.named(e))
     }
-    fn outputs(&self) -> &'static [Output] {
+    fn outputs(&self) -> &[Output] {
         self.model.outputs()
     }
-    fn equations(&self) -> &'static [&'static str] {
+    fn equations(&self) -> &[Text] {
         self.model.equations()
     }
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {

@@ -1,5 +1,8 @@
-//! The one place where the CLI and studies call the solvers (solve, sweep, simulate)
-//! for a concrete model type, turning their results into report records.
+//! The one place where the command line and studies call the solvers (solve, sweep,
+//! simulate) for a concrete model type: settings as a user writes them in, records
+//! out. Below it, models registered by name ([`registry`]), the settings
+//! ([`settings`]) and the progress display ([`progress`]); above it, [`crate::study`]
+//! and the command line. Nothing here imports either.
 
 use crate::balance::Balance;
 use crate::continuation;
@@ -12,7 +15,11 @@ use crate::stability::{Hill, StabilityOptions};
 use crate::timedomain::{self, Scheme, SimOptions};
 use serde::{Deserialize, Serialize};
 
-pub use super::settings::SweepSettings;
+pub mod progress;
+pub mod registry;
+pub mod settings;
+
+pub use settings::SweepSettings;
 
 /// Settings of a single-frequency solve.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,7 +4,7 @@
 //! `sweep.max_step`) from the same [`SettingError`].
 //!
 //! ```
-//! use ihbm::cli::settings::{Bound, SweepSettings};
+//! use ihbm::engine::settings::{Bound, SweepSettings};
 //! let s = SweepSettings { harmonics: 3, max_step: Some(0.02), ..Default::default() };
 //! let o = s.options().unwrap();
 //! // The unspecified first step shrinks to fit under the given largest step.
