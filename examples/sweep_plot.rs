@@ -32,7 +32,7 @@ pub fn run(dir: &Path) -> Result<Vec<f64>, ihbm::Error> {
     for jump in &curve.jumps {
         println!(
             "slow sweep {:?}: jump at Ω = {:.6} from {:.4} to {:.4}",
-            jump.direction, jump.omega, jump.from, jump.to
+            jump.direction, jump.at, jump.from, jump.to
         );
     }
     Ok(curve.folds.iter().map(|f| f.omega).collect())

@@ -91,7 +91,7 @@ pub fn run(set: Option<String>) -> Result<(), ihbm::Error> {
         curve.stats.corrector_iterations
     );
     for s in &curve.segments {
-        println!("  segment {:.3} -> {:.3} rad/s: {}", s.from_omega, s.to_omega, s.ended);
+        println!("  segment {:.3} -> {:.3} rad/s: {}", s.from, s.to, s.ended);
     }
     for f in &curve.folds {
         println!("  fold at Ω = {:.8} rad/s, x1 = {:.6e} m", f.omega, f.outputs[0].max_abs);
@@ -99,15 +99,15 @@ pub fn run(set: Option<String>) -> Result<(), ihbm::Error> {
     for j in curve.jumps.iter().filter(|j| j.output == "x1") {
         println!(
             "  {:?} sweep jumps at {:.6} rad/s: x1 {:.4e} -> {:.4e} m",
-            j.direction, j.omega, j.from, j.to
+            j.direction, j.at, j.from, j.to
         );
     }
-    let unstable = curve.points.iter().filter(|p| !p.stable).count();
+    let unstable = curve.points.iter().filter(|p| p.stability.is_unstable()).count();
     println!("  {unstable} of {} points unstable", curve.points.len());
     println!("\n  Ω (rad/s)   x1 (m)       stable");
     let every = (curve.points.len() / 25).max(1);
     for p in curve.points.iter().step_by(every) {
-        println!("  {:9.4}   {:.5e}  {}", p.omega, p.outputs[0].max_abs, p.stable);
+        println!("  {:9.4}   {:.5e}  {}", p.omega, p.outputs[0].max_abs, p.stability);
     }
     Ok(())
 }

@@ -96,13 +96,7 @@ impl<M: Model> std::fmt::Debug for Balance<'_, M> {
 
 /// Check a harmonic count and a frequency the way every entry point does.
 pub fn check_inputs(harmonics: usize, omega: f64) -> Result<()> {
-    if harmonics == 0 {
-        return Err(Error::InvalidValue {
-            what: "number of harmonics".into(),
-            value: "0".into(),
-            expected: "at least 1".into(),
-        });
-    }
+    crate::fourier::check_harmonics(harmonics)?;
     if !(omega.is_finite() && omega > 0.0) {
         return Err(Error::InvalidValue {
             what: "frequency omega".into(),
@@ -227,7 +221,8 @@ impl<'m, M: Model> Balance<'m, M> {
                 model.residual(&params, Dual64::new(omega, 1.0), phase, &sig, &mut out);
                 if let Some(e) = (0..ndof).find(|&e| out[e].eps != 0.0) {
                     return Err(Error::Other(format!(
-                        "model '{}' says explicit_omega() == false, but equation {e} changes                          with Ω at fixed signals; return true (the default)",
+                        "model '{}' says explicit_omega() == false, but equation {e} changes with Ω at \
+                         fixed signals; return true (the default)",
                         model.name()
                     )));
                 }
@@ -243,7 +238,9 @@ impl<'m, M: Model> Balance<'m, M> {
                         *g0 = g;
                     } else if (g - *g0).abs() > 1e-12 * g.abs().max(g0.abs()) {
                         return Err(Error::Other(format!(
-                            "model '{}' says signal {s0} is affine (affine_signals), but                              ∂r{e}/∂s{s0} is {} at one state and {g} at another; mark it                              false or return &[] (the default)",
+                            "model '{}' says signal {s0} is affine (affine_signals), but \
+                             ∂r{e}/∂s{s0} is {} at one state and {g} at another; mark it \
+                             false or return &[] (the default)",
                             model.name(),
                             *g0
                         )));
@@ -319,14 +316,8 @@ impl<'m, M: Model> Balance<'m, M> {
         self.cache_omega = omega;
         self.sig_valid = true;
         self.grad_valid = false;
-        let l = coeff_len(self.n);
         for (s, sig) in self.model.signals().iter().enumerate() {
-            self.comb.fill(0.0);
-            for &(d, c) in sig.terms.iter() {
-                for (x, y) in self.comb.iter_mut().zip(&a[d * l..(d + 1) * l]) {
-                    *x += c * y;
-                }
-            }
+            crate::model::combine_blocks(&sig.terms, a, &mut self.comb);
             let q = self.orders[s];
             let wq = if q.fract() == 0.0 { omega.powi(q as i32) } else { omega.powf(q) };
             let n1 = self.n + 1;
@@ -534,7 +525,6 @@ impl<'m, M: Model> Balance<'m, M> {
     /// fractional order, `∂(ikΩ)^q/∂q = (ln kΩ + iπ/2)(ikΩ)^q` on its signals.
     pub fn d_param(&mut self, a: &[f64], omega: f64, index: usize, out: &mut [f64]) {
         self.fill_signals(a, omega);
-        let l = coeff_len(self.n);
         let m = self.m;
         self.seeded.fill(false);
         for (s, sig) in self.model.signals().iter().enumerate() {
@@ -542,12 +532,7 @@ impl<'m, M: Model> Balance<'m, M> {
                 continue;
             }
             self.seeded[s] = true;
-            self.comb.fill(0.0);
-            for &(d, c) in sig.terms.iter() {
-                for (x, y) in self.comb.iter_mut().zip(&a[d * l..(d + 1) * l]) {
-                    *x += c * y;
-                }
-            }
+            crate::model::combine_blocks(&sig.terms, a, &mut self.comb);
             let q = self.orders[s];
             apply_factor(&self.comb, &mut self.op, |k| {
                 if k == 0 {

@@ -7,9 +7,9 @@
 
 use crate::balance::{check_inputs, linearized_on, Balance};
 use crate::error::{Error, IterationRecord, Result};
-use crate::fourier::{coeff_len, max_abs};
 use crate::linalg::DenseLu;
 use crate::model::Model;
+use crate::outputs::OutputEval;
 use crate::results::OutputSummary;
 
 /// Options of the Newton corrector.
@@ -28,7 +28,12 @@ pub struct SolveOptions {
 
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { harmonics: 5, tol: 1e-10, max_iter: 50, max_halvings: 12 }
+        SolveOptions {
+            harmonics: crate::fourier::DEFAULT_HARMONICS,
+            tol: 1e-10,
+            max_iter: 50,
+            max_halvings: 12,
+        }
     }
 }
 
@@ -191,14 +196,7 @@ pub fn output_coeffs<M: Model>(
     harmonics: usize,
     output: usize,
 ) -> Vec<f64> {
-    let l = coeff_len(harmonics);
-    let mut out = vec![0.0; l];
-    for &(d, c) in model.outputs()[output].terms.iter() {
-        for (o, x) in out.iter_mut().zip(&coeffs[d * l..(d + 1) * l]) {
-            *o += c * x;
-        }
-    }
-    out
+    OutputEval::new(model, harmonics).coeffs(coeffs, output).to_vec()
 }
 
 /// Summaries (`max_abs`, mean, first-harmonic amplitude, coefficients) of every output.
@@ -207,22 +205,7 @@ pub fn output_summaries<M: Model>(
     coeffs: &[f64],
     harmonics: usize,
 ) -> Vec<OutputSummary> {
-    let n = harmonics;
-    (0..model.outputs().len())
-        .map(|i| {
-            let x = output_coeffs(model, coeffs, n, i);
-            let mut sin = vec![0.0];
-            sin.extend_from_slice(&x[n + 1..]);
-            OutputSummary {
-                name: model.outputs()[i].name.to_string(),
-                max_abs: max_abs(&x),
-                mean: x[0],
-                amp1: x[1].hypot(x[n + 1]),
-                cos: x[..=n].to_vec(),
-                sin,
-            }
-        })
-        .collect()
+    OutputEval::new(model, harmonics).summaries(coeffs)
 }
 
 impl Solution {

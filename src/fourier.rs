@@ -285,17 +285,26 @@ impl std::fmt::Debug for Fourier {
     }
 }
 
+/// The number of harmonics N when none is given (CLI, studies, solver options).
+pub const DEFAULT_HARMONICS: usize = 5;
+
+/// Check a harmonic count (N >= 1): the one place every entry point asks.
+pub fn check_harmonics(harmonics: usize) -> Result<()> {
+    if harmonics == 0 {
+        return Err(Error::InvalidValue {
+            what: "number of harmonics".into(),
+            value: "0".into(),
+            expected: "at least 1".into(),
+        });
+    }
+    Ok(())
+}
+
 impl Fourier {
     /// Plans for `harmonics` harmonics on `samples` samples per period
     /// (`samples > 2 · harmonics`, so every kept harmonic is resolved).
     pub fn new(harmonics: usize, samples: usize) -> Result<Self> {
-        if harmonics == 0 {
-            return Err(Error::InvalidValue {
-                what: "number of harmonics".into(),
-                value: "0".into(),
-                expected: "at least 1".into(),
-            });
-        }
+        check_harmonics(harmonics)?;
         if samples <= 2 * harmonics {
             return Err(Error::InvalidValue {
                 what: "number of time samples".into(),

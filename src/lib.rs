@@ -6,7 +6,11 @@
 //! continuation through folds, stability, and time-domain verification.
 //!
 //! Data flows one way: [`model`] → [`fourier`] (signals) → [`balance`]
-//! (residual/Jacobian) → [`corrector`] → [`continuation`] → [`results`] → [`report`].
+//! (residual/Jacobian) → [`corrector`] → [`continuation`] (and [`stability`]) →
+//! [`results`]. With `default-features = false` that is all that builds; the default
+//! feature `cli` adds the application on top: `engine` (settings, registry, progress)
+//! → `report` (JSON, CSV, SVG) → `study` → the command line (`Cli`). The book's
+//! chapter "How the pieces fit" draws the whole picture.
 
 // Index loops mirror the formulas (harmonic k, sample j, equation e) in numerical code.
 #![allow(clippy::needless_range_loop)]
@@ -25,6 +29,7 @@ pub mod linalg;
 pub mod model;
 #[path = "../models/mod.rs"]
 pub mod models;
+pub mod outputs;
 pub mod results;
 pub mod stability;
 pub mod timedomain;
@@ -46,7 +51,7 @@ pub use error::{Error, Result};
 /// Declare a model in the DSL: parameters with defaults, DOFs, `let` aliases,
 /// equations and outputs; generates a struct implementing [`Model`]. The language, its
 /// checks and its diagnostics are described in the book's chapter "Writing your own
-/// model" (`book/src/models.md`) and in `../shared/CONTRACT.md`, section 1.
+/// model" (`book/src/models.md`).
 pub use ihbm_macros::oscillator;
 pub use model::Model;
 /// Re-exported so generated and user code needs only `ihbm` as a dependency.
@@ -76,4 +81,6 @@ pub mod book {
     pub struct Snapshots;
     #[doc = include_str!("../book/src/performance.md")]
     pub struct Performance;
+    #[doc = include_str!("../book/src/architecture.md")]
+    pub struct Architecture;
 }

@@ -272,6 +272,23 @@ pub trait Model: Send + Sync {
     }
 }
 
+/// `Σ c · x[d]` over `terms`: the value of a linear combination of DOFs.
+pub fn combine(terms: &[(usize, f64)], x: &[f64]) -> f64 {
+    terms.iter().map(|&(d, c)| c * x[d]).sum()
+}
+
+/// `out = Σ c · x[d·len .. (d + 1)·len]` over `terms` (`len = out.len()`): the same
+/// linear combination of per-DOF blocks, e.g. of Fourier coefficients.
+pub fn combine_blocks(terms: &[(usize, f64)], x: &[f64], out: &mut [f64]) {
+    let len = out.len();
+    out.fill(0.0);
+    for &(d, c) in terms {
+        for (o, &v) in out.iter_mut().zip(&x[d * len..(d + 1) * len]) {
+            *o += c * v;
+        }
+    }
+}
+
 impl Order {
     /// The numeric order for the current parameter values.
     pub fn value(&self, params: &[f64]) -> f64 {

@@ -31,6 +31,8 @@ pub enum SegmentEnd {
     AmplitudeBound,
     /// The corrector failed even at the minimum step, or another failure; the reason.
     Stalled(String),
+    /// An observer stopped the run ([`Continuation::run`](crate::continuation::Continuation::run)).
+    Stopped,
 }
 
 impl std::fmt::Display for SegmentEnd {
@@ -39,6 +41,7 @@ impl std::fmt::Display for SegmentEnd {
             SegmentEnd::ReachedEnd => write!(f, "reached end"),
             SegmentEnd::AmplitudeBound => write!(f, "amplitude bound"),
             SegmentEnd::Stalled(why) => write!(f, "stalled: {why}"),
+            SegmentEnd::Stopped => write!(f, "stopped"),
         }
     }
 }
@@ -54,6 +57,110 @@ pub struct PointOutput {
     pub amp1: f64,
 }
 
+/// What Hill's method says about a periodic solution.
+///
+/// `Stable` means that no growing mode was found: the fractional Hill method sees
+/// exponentially growing perturbations, not algebraically decaying ones (book,
+/// chapter 5). Where no verdict exists the reason is kept.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Stability {
+    /// Every Floquet exponent has a real part below the tolerance.
+    Stable,
+    /// An exponent has a positive real part: a perturbation grows.
+    Unstable,
+    /// No verdict.
+    Unknown(Unknown),
+}
+
+/// Why a point has no stability verdict.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Unknown {
+    /// Stability was not asked for (`SweepOptions::stability = None`, `--no-stability`).
+    NotChecked,
+    /// The solution itself did not converge, so there is nothing to analyse.
+    NotConverged,
+    /// The Hill analysis failed; its reason.
+    Failed(String),
+}
+
+impl Stability {
+    /// `Some(true)` for stable, `Some(false)` for unstable, `None` without a verdict
+    /// (the JSON's `true`, `false`, `null`).
+    pub fn verdict(&self) -> Option<bool> {
+        match self {
+            Stability::Stable => Some(true),
+            Stability::Unstable => Some(false),
+            Stability::Unknown(_) => None,
+        }
+    }
+
+    /// Whether the verdict is "stable".
+    pub fn is_stable(&self) -> bool {
+        *self == Stability::Stable
+    }
+
+    /// Whether the verdict is "unstable" (unknown is neither).
+    pub fn is_unstable(&self) -> bool {
+        *self == Stability::Unstable
+    }
+
+    /// From a verdict: `true` stable, `false` unstable.
+    pub fn from_verdict(stable: bool) -> Self {
+        if stable {
+            Stability::Stable
+        } else {
+            Stability::Unstable
+        }
+    }
+}
+
+impl std::fmt::Display for Stability {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stability::Stable => f.write_str("stable"),
+            Stability::Unstable => f.write_str("unstable"),
+            Stability::Unknown(Unknown::NotChecked) => f.write_str("not checked"),
+            Stability::Unknown(Unknown::NotConverged) => f.write_str("unknown (not converged)"),
+            Stability::Unknown(Unknown::Failed(why)) => write!(f, "unknown ({why})"),
+        }
+    }
+}
+
+/// The continuation parameter of a curve.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Parameter {
+    /// The forcing frequency Ω (a frequency sweep).
+    Omega,
+    /// The model parameter with this index and name, at a fixed Ω.
+    Model {
+        /// Index in [`Model::params_info`](crate::model::Model::params_info).
+        index: usize,
+        /// Its name.
+        name: String,
+    },
+}
+
+impl Parameter {
+    /// `"omega"` or the parameter's name (the JSON's `parameter`, the CSV's first column).
+    pub fn name(&self) -> &str {
+        match self {
+            Parameter::Omega => "omega",
+            Parameter::Model { name, .. } => name,
+        }
+    }
+
+    /// Whether this is a frequency sweep.
+    pub fn is_omega(&self) -> bool {
+        *self == Parameter::Omega
+    }
+}
+
+impl std::fmt::Display for Parameter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// One converged point of a traced curve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CurvePoint {
@@ -63,8 +170,8 @@ pub struct CurvePoint {
     pub param: f64,
     /// Fourier coefficients, layout `[a0, a1..aN, b1..bN]` per DOF.
     pub coeffs: Vec<f64>,
-    /// Stability verdict (Hill's method); `true` means no growing mode was found.
-    pub stable: bool,
+    /// Stability verdict (Hill's method), or why there is none.
+    pub stability: Stability,
     /// Per output, in model output order.
     pub outputs: Vec<PointOutput>,
     /// Index of the segment this point belongs to.
@@ -107,8 +214,8 @@ pub enum Direction {
 pub struct Jump {
     /// Sweep direction.
     pub direction: Direction,
-    /// Parameter value (Ω for frequency sweeps) of the jump.
-    pub omega: f64,
+    /// Value of the continuation parameter (Ω for frequency sweeps) at the jump.
+    pub at: f64,
     /// The output the amplitudes refer to.
     pub output: String,
     /// `max_abs` before the jump.
@@ -120,10 +227,10 @@ pub struct Jump {
 /// One piece of a traced curve and how it ended.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segment {
-    /// Parameter value where the segment starts.
-    pub from_omega: f64,
-    /// Parameter value where it ended.
-    pub to_omega: f64,
+    /// Value of the continuation parameter where the segment starts.
+    pub from: f64,
+    /// Value where it ended.
+    pub to: f64,
     /// Why it ended.
     pub ended: SegmentEnd,
 }
@@ -162,15 +269,15 @@ pub struct Curve {
     pub model: String,
     /// Number of harmonics N.
     pub harmonics: usize,
-    /// Name of the continuation parameter (`"omega"` for frequency sweeps).
-    pub parameter: String,
+    /// The continuation parameter.
+    pub parameter: Parameter,
     /// Output names, in model order (the order of every `outputs` vector).
     pub output_names: Vec<String>,
     /// Points in arc-length order.
     pub points: Vec<CurvePoint>,
-    /// Whether the points' `stable` verdicts come from Hill's method. `false` when the
-    /// sweep skipped stability (`SweepOptions::stability = None`, `--no-stability`):
-    /// every point then reads `stable` without having been checked.
+    /// Whether stability was asked for. `false` when the sweep skipped it
+    /// (`SweepOptions::stability = None`, `--no-stability`): every point's stability
+    /// is then [`Unknown::NotChecked`].
     pub stability_checked: bool,
     /// Folds in arc-length order.
     pub folds: Vec<Fold>,
@@ -180,11 +287,35 @@ pub struct Curve {
     pub segments: Vec<Segment>,
     /// Solver counters.
     pub stats: CurveStats,
-    /// Bifurcations in arc-length order: every fold, and every change of stability
-    /// that is not a fold (period doubling, torus, branch point).
+    /// Changes of stability that are not folds (period doubling, torus, branch point),
+    /// in arc-length order. Folds are in [`Curve::folds`] only;
+    /// [`Curve::all_bifurcations`] gives both in arc-length order.
     pub bifurcations: Vec<Bifurcation>,
     /// The harmonic-convergence study, when it was requested.
     pub convergence: Option<HarmonicConvergence>,
+}
+
+impl Curve {
+    /// Every bifurcation in arc-length order: the folds (as [`BifurcationKind::Fold`])
+    /// and the changes of stability.
+    pub fn all_bifurcations(&self) -> Vec<Bifurcation> {
+        let mut all: Vec<Bifurcation> = self
+            .folds
+            .iter()
+            .map(|f| Bifurcation {
+                kind: BifurcationKind::Fold,
+                omega: f.omega,
+                param: f.param,
+                after: f.after,
+                outputs: f.outputs.clone(),
+                located: f.located,
+            })
+            .chain(self.bifurcations.iter().cloned())
+            .collect();
+        // Stable: a fold before a stability change inside the same step.
+        all.sort_by_key(|b| b.after);
+        all
+    }
 }
 
 /// What happens at a bifurcation point of a curve of periodic solutions.
@@ -259,4 +390,53 @@ pub struct HarmonicConvergence {
     pub converged: bool,
     /// The estimated relative error of the returned curve (the last change).
     pub estimate: f64,
+}
+
+/// The outcome of one `solve`: what the JSON of `ihbm solve` reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveRecord {
+    /// Model name as registered.
+    pub model: String,
+    /// Forcing frequency, rad/s.
+    pub omega: f64,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+    /// Whether Newton met its tolerance.
+    pub converged: bool,
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// Residual norm of the returned coefficients.
+    pub residual_norm: f64,
+    /// Stability verdict (Hill's method), or why there is none.
+    pub stability: Stability,
+    /// Per output, in model output order.
+    pub outputs: Vec<OutputSummary>,
+}
+
+/// Steady statistics of one output of a time integration.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimOutput {
+    /// Output name.
+    pub name: String,
+    /// Largest |x| over the last 10 forcing periods.
+    pub max_abs: f64,
+    /// Mean over the last 10 forcing periods.
+    pub mean: f64,
+}
+
+/// The outcome of one `simulate`: what the JSON of `ihbm simulate` reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimRecord {
+    /// Model name as registered.
+    pub model: String,
+    /// Forcing frequency, rad/s.
+    pub omega: f64,
+    /// Time step, s.
+    pub dt: f64,
+    /// Forcing periods integrated.
+    pub periods: usize,
+    /// `"gl"` or `"bdf2"`.
+    pub scheme: String,
+    /// Per output, in model output order.
+    pub outputs: Vec<SimOutput>,
 }

@@ -179,7 +179,13 @@ fn no_stability_keeps_the_points_and_drops_the_verdicts() {
     for (p, q) in pa.iter().zip(pb) {
         assert_eq!(p["omega"], q["omega"]);
         assert_eq!(p["outputs"], q["outputs"]);
-        assert_eq!(q["stable"], true, "without stability every point is reported stable");
+        // CONTRACT section 3: no verdict is `null`, not a `true` that was never checked.
+        assert_eq!(
+            q["stable"],
+            serde_json::Value::Null,
+            "without stability no point has a verdict"
+        );
+        assert!(p["stable"].is_boolean(), "with stability every point has one: {p}");
     }
     assert!(pa.iter().any(|p| p["stable"] == false), "the middle branch is unstable");
     assert_eq!(a["folds"], b["folds"]);

@@ -135,19 +135,24 @@ fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
     let (f0, f1) = (curve.folds[0].after, curve.folds[1].after);
     for (i, p) in curve.points.iter().enumerate() {
         let between = i > f0 && i <= f1;
-        assert_eq!(p.stable, !between, "point {i} at Ω = {} (folds after {f0}, {f1})", p.omega);
+        assert_eq!(
+            p.stability.is_stable(),
+            !between,
+            "point {i} at Ω = {} (folds after {f0}, {f1})",
+            p.omega
+        );
     }
-    assert!(curve.bifurcations.iter().all(|b| b.located));
-    let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
+    assert!(curve.all_bifurcations().iter().all(|b| b.located));
+    let kinds: Vec<_> = curve.all_bifurcations().iter().map(|b| b.kind).collect();
     assert_eq!(kinds, vec![BifurcationKind::Fold, BifurcationKind::Fold]);
     // Jumps: up at the upper fold to the lower branch, down at the lower fold up.
     assert_eq!(curve.jumps.len(), 2, "{:?}", curve.jumps);
     let up = curve.jumps.iter().find(|j| j.direction == Direction::Up).unwrap();
     let down = curve.jumps.iter().find(|j| j.direction == Direction::Down).unwrap();
-    assert!((up.omega - expected[1]).abs() < 1e-8 * expected[1]);
-    assert!((down.omega - expected[0]).abs() < 1e-8 * expected[0]);
-    let roots_up = eq.amplitudes(up.omega);
-    let roots_down = eq.amplitudes(down.omega);
+    assert!((up.at - expected[1]).abs() < 1e-8 * expected[1]);
+    assert!((down.at - expected[0]).abs() < 1e-8 * expected[0]);
+    let roots_up = eq.amplitudes(up.at);
+    let roots_down = eq.amplitudes(down.at);
     assert!(up.from > up.to && down.from < down.to);
     // Landing amplitudes: the other root of the equation (solved there, not read off
     // the polyline).
@@ -205,7 +210,7 @@ fn parameter_continuation_in_force_amplitude() {
     // At Ω = 1.6 the response to F has an S-shaped curve (two folds in F).
     let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
     let curve = sweep_param(&model, "F", 0.01, 1.0, 1.6, &one_harmonic_opts()).unwrap();
-    assert_eq!(curve.parameter, "F");
+    assert_eq!(curve.parameter.name(), "F");
     assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd);
     for p in &curve.points {
         let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: p.param };
@@ -249,4 +254,59 @@ fn bad_input_is_an_error_naming_the_value() {
     assert!(msg(sweep_param(&model, "F", 1.0, 2.0, 0.0, &o)).contains("frequency"));
     let frac = FractionalDuffing::default();
     assert!(msg(sweep_param(&frac, "p", 0.5, 2.5, 1.0, &o)).contains("2.5"));
+}
+
+/// Driving the continuation step by step is the same computation as `sweep`: the
+/// events name every point, fold and bifurcation exactly once and in order, and a run
+/// stopped at its first fold keeps a prefix of the full curve, bit for bit, with the
+/// fold located where the closed form puts it.
+#[test]
+fn stepping_gives_the_sweep_and_a_stop_keeps_a_prefix() {
+    use ihbm::continuation::{Continuation, Event};
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: 0.2 };
+    let opts = one_harmonic_opts();
+    let whole = sweep(&model, 0.5, 2.5, &opts).unwrap();
+
+    let mut run = Continuation::omega(&model, 0.5, 2.5, &opts).unwrap();
+    let mut events = Vec::new();
+    loop {
+        let e = run.step();
+        if e == Event::Finished {
+            break;
+        }
+        events.push(e);
+    }
+    let (mut points, mut folds, mut segments) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, e) in events.iter().enumerate() {
+        match *e {
+            Event::Point(i) => points.push(i),
+            Event::Fold(i) => {
+                // reported just before the point after it
+                let after = run.trace().folds[i].after;
+                assert_eq!(events.get(k + 1), Some(&Event::Point(after + 1)), "{events:?}");
+                folds.push(i);
+            }
+            Event::Bifurcation(_) => panic!("the Duffing curve changes stability at folds only"),
+            Event::SegmentEnd(i) => segments.push(i),
+            Event::Finished => unreachable!(),
+        }
+    }
+    assert_eq!(run.step(), Event::Finished, "finished stays finished");
+    let stepped = run.finish();
+    assert_eq!(stepped, whole);
+    assert_eq!(points, (0..whole.points.len()).collect::<Vec<_>>());
+    assert_eq!(folds, (0..whole.folds.len()).collect::<Vec<_>>());
+    assert_eq!(segments, (0..whole.segments.len()).collect::<Vec<_>>());
+
+    let mut run = Continuation::omega(&model, 0.5, 2.5, &opts).unwrap();
+    while !matches!(run.step(), Event::Fold(_) | Event::Finished) {}
+    let part = run.finish();
+    assert_eq!(part.folds.len(), 1);
+    assert_eq!(part.folds[0], whole.folds[0]);
+    assert_eq!(part.points[..], whole.points[..part.points.len()]);
+    assert_eq!(part.segments.last().map(|s| &s.ended), Some(&SegmentEnd::Stopped));
+    let expected = eq.folds(0.5, 2.5);
+    let upper = expected.iter().cloned().fold(f64::MIN, f64::max);
+    assert!((part.folds[0].omega - upper).abs() < 1e-8 * upper, "{:?} vs {upper}", part.folds[0]);
 }

@@ -20,20 +20,20 @@ fn summary(c: &Curve) -> Value {
         "points": c.points.len(),
         "stats": c.stats,
         "segments": c.segments.iter().map(|s| json!({
-            "from": r(s.from_omega, 8), "to": r(s.to_omega, 8), "ended": s.ended.to_string()
+            "from": r(s.from, 8), "to": r(s.to, 8), "ended": s.ended.to_string()
         })).collect::<Vec<_>>(),
         "folds": c.folds.iter().map(|f| json!({
             "omega": r(f.omega, 8),
             "max_abs": f.outputs.iter().map(|o| r(o.max_abs, 6)).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
-        "bifurcations": c.bifurcations.iter().map(|b| json!({
+        "bifurcations": c.all_bifurcations().iter().map(|b| json!({
             "kind": b.kind, "omega": r(b.omega, 6)
         })).collect::<Vec<_>>(),
         "jumps": c.jumps.iter().map(|j| json!({
-            "direction": j.direction, "output": j.output, "omega": r(j.omega, 8),
+            "direction": j.direction, "output": j.output, "omega": r(j.at, 8),
             "from": r(j.from, 5), "to": r(j.to, 3)
         })).collect::<Vec<_>>(),
-        "unstable_points": c.points.iter().filter(|p| !p.stable).count(),
+        "unstable_points": c.points.iter().filter(|p| !p.stability.is_stable()).count(),
         "peak": c.output_names.iter().enumerate().map(|(k, n)| json!({
             n.as_str(): r(c.points.iter().map(|p| p.outputs[k].max_abs).fold(0.0, f64::max), 5)
         })).collect::<Vec<_>>(),

@@ -5,7 +5,8 @@ use ihbm::report::{
     curve_csv, curve_facts, figure_svg, sweep_json, Figure, FreqUnit, Panel, Series, TimeMarker,
 };
 use ihbm::results::{
-    Curve, CurvePoint, CurveStats, Direction, Fold, Jump, PointOutput, Segment, SegmentEnd,
+    Curve, CurvePoint, CurveStats, Direction, Fold, Jump, Parameter, PointOutput, Segment,
+    SegmentEnd, Stability,
 };
 use num_complex::Complex64;
 
@@ -27,7 +28,7 @@ fn linear_curve(f: f64) -> Curve {
                 omega: w,
                 param: w,
                 coeffs: vec![],
-                stable: true,
+                stability: Stability::Stable,
                 outputs: vec![
                     PointOutput { max_abs: f * z1, mean: 0.0, amp1: f * z1 },
                     PointOutput { max_abs: f * y, mean: 0.0, amp1: f * y },
@@ -39,13 +40,13 @@ fn linear_curve(f: f64) -> Curve {
     Curve {
         model: "quarter-car".into(),
         harmonics: 5,
-        parameter: "omega".into(),
+        parameter: Parameter::Omega,
         output_names: vec!["z1".into(), "y".into()],
         points,
         stability_checked: true,
         folds: vec![],
         jumps: vec![],
-        segments: vec![Segment { from_omega: 1.0, to_omega: 100.0, ended: SegmentEnd::ReachedEnd }],
+        segments: vec![Segment { from: 1.0, to: 100.0, ended: SegmentEnd::ReachedEnd }],
         stats: CurveStats::default(),
         bifurcations: vec![],
         convergence: None,
@@ -65,7 +66,7 @@ fn s_curve() -> Curve {
                 omega: omega(s),
                 param: omega(s),
                 coeffs: vec![],
-                stable: !(s1..s2).contains(&s),
+                stability: Stability::from_verdict(!(s1..s2).contains(&s)),
                 outputs: vec![PointOutput { max_abs: s, mean: 0.0, amp1: s }],
                 segment: 0,
             }
@@ -82,23 +83,19 @@ fn s_curve() -> Curve {
     Curve {
         model: "synthetic".into(),
         harmonics: 3,
-        parameter: "omega".into(),
+        parameter: Parameter::Omega,
         output_names: vec!["x".into()],
         points,
         stability_checked: true,
         folds: vec![fold(s1), fold(s2)],
         jumps: vec![Jump {
             direction: Direction::Up,
-            omega: omega(s1),
+            at: omega(s1),
             output: "x".into(),
             from: s1,
             to: 0.9,
         }],
-        segments: vec![Segment {
-            from_omega: omega(0.0),
-            to_omega: omega(1.0),
-            ended: SegmentEnd::ReachedEnd,
-        }],
+        segments: vec![Segment { from: omega(0.0), to: omega(1.0), ended: SegmentEnd::ReachedEnd }],
         stats: CurveStats { folds: 2, ..CurveStats::default() },
         bifurcations: vec![],
         convergence: None,

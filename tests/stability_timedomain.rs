@@ -67,9 +67,9 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
     // at a similar frequency.
     let (iu, &sigma) = growth.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
     let u = &curve.points[iu];
-    assert!(!u.stable && sigma > 0.0);
+    assert!(!u.stability.is_stable() && sigma > 0.0);
     let is = (0..curve.folds[0].after)
-        .filter(|&i| curve.points[i].stable)
+        .filter(|&i| curve.points[i].stability.is_stable())
         .min_by(|&a, &b| {
             (curve.points[a].omega - u.omega)
                 .abs()
@@ -111,12 +111,12 @@ fn quarter_car_from_rest_settles_on_a_stable_branch() {
         .points
         .windows(2)
         .filter(|w| {
-            (w[0].omega - omega) * (w[1].omega - omega) <= 0.0 && w[0].stable == w[1].stable
+            (w[0].omega - omega) * (w[1].omega - omega) <= 0.0 && w[0].stability == w[1].stability
         })
         .map(|w| {
             let t = (omega - w[0].omega) / (w[1].omega - w[0].omega);
             let a = w[0].outputs[0].max_abs;
-            (a + t * (w[1].outputs[0].max_abs - a), w[0].stable)
+            (a + t * (w[1].outputs[0].max_abs - a), w[0].stability.is_stable())
         })
         .collect();
     branches.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -141,10 +141,10 @@ fn quarter_car_torus_bubble_is_confirmed_in_time() {
     let car = QuarterCar { F: 0.1, k3: 5e6, ..Default::default() };
     let curve = sweep(&car, 40.0, 80.0, &SweepOptions::default()).unwrap();
     assert!(curve.folds.is_empty());
-    let kinds: Vec<_> = curve.bifurcations.iter().map(|b| b.kind).collect();
+    let kinds: Vec<_> = curve.all_bifurcations().iter().map(|b| b.kind).collect();
     assert_eq!(kinds, [ihbm::results::BifurcationKind::Torus; 2]);
-    assert!(curve.bifurcations.iter().all(|b| b.located));
-    let (a, b) = (curve.bifurcations[0].omega, curve.bifurcations[1].omega);
+    assert!(curve.all_bifurcations().iter().all(|b| b.located));
+    let (a, b) = (curve.all_bifurcations()[0].omega, curve.all_bifurcations()[1].omega);
     assert!(a > 50.0 && b < 70.0 && a < b);
     let hb = |w: f64| {
         let win = curve

@@ -29,7 +29,7 @@ fn car_curve(k3: f64, f: f64, what: &str, check: impl Fn(&Curve)) -> TrackCounts
 fn quarter_car_default_curve() {
     let d = QuarterCar::default();
     let k = car_curve(d.k3, d.F, "default", |c| {
-        assert!(c.points.iter().all(|p| p.stable));
+        assert!(c.points.iter().all(|p| p.stability.is_stable()));
         assert_eq!(c.stats.stability_unrefined, 0);
     });
     // Nearly linear at every point: once the first analysis has the centred copies, no
@@ -45,7 +45,7 @@ fn quarter_car_with_folds() {
         assert_eq!(folds.len(), 2);
         assert!(folds.iter().any(|w| (w - 13.01).abs() < 0.01), "{folds:?}");
         assert!(folds.iter().any(|w| (w - 15.51).abs() < 0.01), "{folds:?}");
-        assert!(c.points.iter().any(|p| !p.stable), "the middle branch is unstable");
+        assert!(c.points.iter().any(|p| !p.stability.is_stable()), "the middle branch is unstable");
     });
 }
 
@@ -53,7 +53,7 @@ fn quarter_car_with_folds() {
 fn quarter_car_torus_bubble() {
     car_curve(5e6, 0.1, "torus", |c| {
         let inside = c.points.iter().filter(|p| (58.0..61.5).contains(&p.omega));
-        assert!(inside.clone().count() > 0 && inside.clone().all(|p| !p.stable));
+        assert!(inside.clone().count() > 0 && inside.clone().all(|p| !p.stability.is_stable()));
     });
 }
 

@@ -1,7 +1,10 @@
 //! The command line of CONTRACT section 2, as clap derive types.
 
-use crate::engine::settings::{Bound, PredictorName, SweepSettings};
-use crate::engine::SchemeName;
+use crate::continuation::{AmplitudeBound, Predictor};
+use crate::engine::settings::SweepSettings;
+use crate::engine::SimSettings;
+use crate::fourier::DEFAULT_HARMONICS;
+use crate::timedomain::Scheme;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -31,7 +34,7 @@ pub enum Command {
         #[arg(long, value_name = "W", allow_negative_numbers = true)]
         omega: f64,
         /// Number of harmonics N (>= 1).
-        #[arg(long, value_name = "N", default_value_t = 5)]
+        #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
         harmonics: usize,
         /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
         #[arg(long = "set", value_name = "P=V")]
@@ -89,11 +92,11 @@ pub enum Command {
         #[arg(long, value_name = "DT", allow_negative_numbers = true)]
         dt: Option<f64>,
         /// Forcing periods to integrate (>= 20: statistics over the last 10, drift vs the 10 before).
-        #[arg(long, value_name = "P", default_value_t = 100)]
+        #[arg(long, value_name = "P", default_value_t = SimSettings::default().periods)]
         periods: usize,
         /// Integration scheme: `gl` (Grünwald–Letnikov, first order) or `bdf2` (second order).
-        #[arg(long, value_enum, default_value_t = SchemeName::Bdf2)]
-        scheme: SchemeName,
+        #[arg(long, value_enum, default_value_t = SimSettings::default().scheme)]
+        scheme: Scheme,
         /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
         #[arg(long = "set", value_name = "P=V")]
         set: Vec<String>,
@@ -118,7 +121,7 @@ pub enum Command {
 #[derive(Debug, Clone, clap::Args)]
 pub struct CurveArgs {
     /// Number of harmonics N (>= 1).
-    #[arg(long, value_name = "N", default_value_t = 5)]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
     pub harmonics: usize,
     /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
     #[arg(long = "set", value_name = "P=V")]
@@ -158,12 +161,12 @@ pub struct ContinuationArgs {
     pub tol: Option<f64>,
     /// Predictor direction [default: tangent].
     #[arg(long, value_enum, value_name = "KIND")]
-    pub predictor: Option<PredictorName>,
+    pub predictor: Option<Predictor>,
     /// When a branch counts as running away and its segment ends: `rel:F` (F times the
     /// largest Fourier coefficient of the linearised response), `abs:A` (any output's
     /// max_abs above A, model units; a plain number means this) or `none` [default: rel:1e3].
     #[arg(long, value_name = "BOUND", value_parser = parse_bound)]
-    pub amplitude_bound: Option<Bound>,
+    pub amplitude_bound: Option<AmplitudeBound>,
     /// Cap on accepted continuation steps [default: 20000].
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub max_steps: Option<usize>,
@@ -198,7 +201,7 @@ impl ContinuationArgs {
     }
 }
 
-fn parse_bound(s: &str) -> Result<Bound, String> {
+fn parse_bound(s: &str) -> Result<AmplitudeBound, String> {
     s.parse()
 }
 

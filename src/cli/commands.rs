@@ -32,7 +32,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                         if rec.converged { "converged" } else { "NOT converged" },
                         rec.iterations,
                         rec.residual_norm,
-                        rec.stable.map_or("unknown".to_string(), |s| s.to_string())
+                        rec.stability
                     ))?;
                     w(
                         out,
@@ -65,7 +65,8 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
             let settings = args.cont.settings(args.harmonics);
-            let curve = model.sweep(from, to, &settings).map_err(Failure::from_error);
+            let mut watch = progress::CurveProgress::new(pb.clone(), &name);
+            let curve = model.sweep(from, to, &settings, &mut watch).map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
@@ -78,7 +79,9 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             ));
             let settings = args.cont.settings(args.harmonics);
             let range = ParamRange { param: &param, from, to, omega };
-            let curve = model.sweep_param(&range, &settings).map_err(Failure::from_error);
+            let mut watch = progress::CurveProgress::new(pb.clone(), &name);
+            let curve =
+                model.sweep_param(&range, &settings, &mut watch).map_err(Failure::from_error);
             pb.finish_and_clear();
             let curve = curve?;
             let title = format!(
@@ -149,10 +152,10 @@ fn write_curve(
         return emit_json(&report::sweep_json(curve), target, out);
     }
     // The continuation parameter as people write it, with its unit.
-    let (p, unit) = if curve.parameter == "omega" {
+    let (p, unit) = if curve.parameter.is_omega() {
         ("Ω".to_string(), " rad/s")
     } else {
-        (curve.parameter.clone(), "")
+        (curve.parameter.name().to_string(), "")
     };
     w(
         out,
@@ -173,15 +176,12 @@ fn write_curve(
             out,
             format_args!(
                 "  jump ({:?}) at {p} = {:.6}{unit}: {} {:.6e} -> {:.6e}\n",
-                j.direction, j.omega, j.output, j.from, j.to
+                j.direction, j.at, j.output, j.from, j.to
             ),
         )?;
     }
     for s in &curve.segments {
-        w(
-            out,
-            format_args!("  segment {p} = {} -> {}{unit}: {}\n", s.from_omega, s.to_omega, s.ended),
-        )?;
+        w(out, format_args!("  segment {p} = {} -> {}{unit}: {}\n", s.from, s.to, s.ended))?;
     }
     if let Some(c) = &curve.convergence {
         w(out, format_args!("  {}\n", report::convergence_line(c)))?;

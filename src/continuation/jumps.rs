@@ -12,7 +12,7 @@
 //! response then leaves for a branch this curve does not contain: period-2 or
 //! quasi-periodic; no jump is invented).
 
-use crate::results::{CurvePoint, Direction, Fold, Jump};
+use crate::results::{CurvePoint, Direction, Fold, Jump, Stability, Unknown};
 
 struct Vertex {
     x: f64,
@@ -28,7 +28,7 @@ struct Vertex {
 /// are interpolated there; solving at the jump's parameter from the interpolated
 /// coefficients gives them exactly.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Landing {
+pub(crate) struct Landing {
     /// The first index of the jumps (one per output) that land here.
     pub jump: usize,
     /// The point before the landing.
@@ -39,16 +39,19 @@ pub struct Landing {
     pub w: f64,
 }
 
-/// The jumps of slow up and down sweeps over a traced curve, one per output each.
-///
-/// Folds must carry their `after` index into `points`; stability comes from
-/// `points[i].stable` (fold vertices count as unstable landing places).
-pub fn find_jumps(points: &[CurvePoint], folds: &[Fold], output_names: &[String]) -> Vec<Jump> {
-    find_landings(points, folds, output_names).0
+/// Whether a slow sweep may follow (or land on) a point: a stable one, or any point
+/// of a curve traced without stability (nothing tells it apart). A failed analysis is
+/// no place to land.
+fn followable(s: &Stability) -> bool {
+    matches!(s, Stability::Stable | Stability::Unknown(Unknown::NotChecked))
 }
 
-/// [`find_jumps`], and where each group of jumps (one per output) lands.
-pub fn find_landings(
+/// The jumps of slow up and down sweeps over a traced curve, one per output each, and
+/// where each group of jumps (one per output) lands.
+///
+/// Folds must carry their `after` index into `points`; fold vertices count as
+/// unstable landing places.
+pub(crate) fn find_landings(
     points: &[CurvePoint],
     folds: &[Fold],
     output_names: &[String],
@@ -59,7 +62,7 @@ pub fn find_landings(
         lines[p.segment].push(Vertex {
             x: p.param,
             amps: p.outputs.iter().map(|o| o.max_abs).collect(),
-            stable: p.stable,
+            stable: followable(&p.stability),
             fold: false,
             index: Some(i),
         });
@@ -163,7 +166,7 @@ fn walk(
         for (o, name) in names.iter().enumerate() {
             jumps.push(Jump {
                 direction,
-                omega: vi.x,
+                at: vi.x,
                 output: name.clone(),
                 from: vi.amps[o],
                 to: amps[o],

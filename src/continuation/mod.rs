@@ -43,22 +43,27 @@
 //! assert!(curve.jumps.iter().any(|j| j.direction == ihbm::results::Direction::Up));
 //! ```
 
+mod convergence;
+mod events;
 mod jumps;
+mod locate;
+mod stepper;
 mod tracer;
 
 use crate::error::{Error, Result};
 use crate::model::{Model, Order};
-use crate::results::{
-    Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, Fold, HarmonicConvergence,
-    HarmonicLevel, PointOutput, Segment, SegmentEnd,
-};
-use crate::stability::{Crossing, Hill, StabilityOptions};
-use tracer::{dot, Axis, Tracer};
+use crate::results::Curve;
+use crate::stability::StabilityOptions;
+use convergence::with_convergence;
+use tracer::Axis;
 
-pub use jumps::{find_jumps, find_landings, Landing};
+pub use events::{Control, Event, Observer, Trace};
+pub use stepper::Continuation;
 
-/// Predictor direction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Predictor direction (`tangent`, `secant` on the command line and in study files).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Predictor {
     /// The unit tangent at the last point (exact, one extra solve per step).
     Tangent,
@@ -66,7 +71,14 @@ pub enum Predictor {
     Secant,
 }
 
-/// When a branch counts as running away.
+/// When a branch counts as running away. Written `rel:F`, `abs:A`, `none`, or a plain
+/// number (`abs:`), on the command line and in study files.
+///
+/// ```
+/// use ihbm::continuation::AmplitudeBound;
+/// assert_eq!("rel:1e3".parse::<AmplitudeBound>(), Ok(AmplitudeBound::Relative(1e3)));
+/// assert_eq!(AmplitudeBound::Absolute(0.5).to_string(), "abs:0.5");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AmplitudeBound {
     /// This many times the largest Fourier coefficient of the linearised response
@@ -76,6 +88,77 @@ pub enum AmplitudeBound {
     Absolute(f64),
     /// No bound.
     None,
+}
+
+/// What a valid amplitude bound looks like (for error messages).
+pub const BOUND_SYNTAX: &str =
+    "rel:F, abs:A or none, with F and A finite numbers > 0 (e.g. rel:1e3, abs:0.5)";
+
+impl std::str::FromStr for AmplitudeBound {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("none") {
+            return Ok(AmplitudeBound::None);
+        }
+        let (kind, num) = match t.split_once(':') {
+            Some((k, v)) => (k.trim().to_ascii_lowercase(), v.trim()),
+            None => ("abs".to_string(), t),
+        };
+        let x = match num.parse::<f64>() {
+            Ok(x) if x.is_finite() && x > 0.0 => x,
+            _ => return Err(format!("expected {BOUND_SYNTAX}")),
+        };
+        match kind.as_str() {
+            "rel" => Ok(AmplitudeBound::Relative(x)),
+            "abs" => Ok(AmplitudeBound::Absolute(x)),
+            _ => Err(format!("expected {BOUND_SYNTAX}")),
+        }
+    }
+}
+
+impl std::fmt::Display for AmplitudeBound {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            AmplitudeBound::Relative(x) => write!(f, "rel:{x}"),
+            AmplitudeBound::Absolute(x) => write!(f, "abs:{x}"),
+            AmplitudeBound::None => write!(f, "none"),
+        }
+    }
+}
+
+impl serde::Serialize for AmplitudeBound {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(&self.to_string())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for AmplitudeBound {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = AmplitudeBound;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "{BOUND_SYNTAX}, or a number (abs:)")
+            }
+            fn visit_str<E: serde::de::Error>(
+                self,
+                v: &str,
+            ) -> std::result::Result<Self::Value, E> {
+                v.parse().map_err(|m: String| E::custom(format!("amplitude_bound '{v}': {m}")))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<Self::Value, E> {
+                self.visit_str(&v.to_string())
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<Self::Value, E> {
+                self.visit_str(&v.to_string())
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<Self::Value, E> {
+                self.visit_str(&v.to_string())
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// Rerun a curve with more harmonics until it stops changing.
@@ -132,7 +215,7 @@ pub struct SweepOptions {
 impl Default for SweepOptions {
     fn default() -> Self {
         SweepOptions {
-            harmonics: 5,
+            harmonics: crate::fourier::DEFAULT_HARMONICS,
             initial_step: 0.01,
             min_step: 1e-6,
             max_step: 0.1,
@@ -154,13 +237,42 @@ impl Default for SweepOptions {
 /// N = 0, invalid model parameters). Numerical trouble ends a segment and is reported
 /// in [`Curve::segments`]; the curve is returned with everything computed.
 pub fn sweep<M: Model>(model: &M, from: f64, to: f64, opts: &SweepOptions) -> Result<Curve> {
-    check_range("frequency", from, to)?;
-    if from <= 0.0 {
-        return Err(invalid("start frequency", from, "a positive frequency in rad/s"));
-    }
-    check_options(opts)?;
-    model.validate()?;
-    with_convergence(opts, |o| trace(model, Axis::Omega, from, to, o))
+    sweep_with(model, from, to, opts, &mut ())
+}
+
+/// [`sweep`] watched by `observer`, which sees every [`Event`] and may stop the run
+/// (the curve then holds what was traced: one step's events all come after the step,
+/// so a stop at a fold keeps the point after it too). With a harmonic-convergence study, each
+/// level is one run, ending with [`Event::Finished`]; a stop ends the study there.
+///
+/// ```
+/// use ihbm::continuation::{sweep_with, Control, Event, SweepOptions, Trace};
+/// use ihbm::models::Duffing;
+///
+/// let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+/// let opts = SweepOptions { harmonics: 1, ..Default::default() };
+/// let mut traced = 0;
+/// let mut stop_at_fold = |e: &Event, t: &Trace| match e {
+///     Event::Fold(_) => {
+///         traced = t.points.len();
+///         Control::Stop
+///     }
+///     _ => Control::Continue,
+/// };
+/// let curve = sweep_with(&model, 0.5, 2.5, &opts, &mut stop_at_fold)?;
+/// // Everything traced when it stopped is kept: the fold and the step that found it.
+/// assert_eq!((curve.folds.len(), curve.points.len()), (1, traced));
+/// # Ok::<(), ihbm::Error>(())
+/// ```
+pub fn sweep_with<M: Model>(
+    model: &M,
+    from: f64,
+    to: f64,
+    opts: &SweepOptions,
+    observer: &mut dyn Observer,
+) -> Result<Curve> {
+    check_sweep(model, from, to, opts)?;
+    with_convergence(opts, |o| run(Continuation::new(model, Axis::Omega, from, to, o)?, observer))
 }
 
 /// Trace the response of `model` at fixed frequency `omega` as parameter `param`
@@ -174,6 +286,57 @@ pub fn sweep_param<M: Model>(
     omega: f64,
     opts: &SweepOptions,
 ) -> Result<Curve> {
+    sweep_param_with(model, param, from, to, omega, opts, &mut ())
+}
+
+/// [`sweep_param`] watched by `observer` (as in [`sweep_with`]).
+pub fn sweep_param_with<M: Model>(
+    model: &M,
+    param: &str,
+    from: f64,
+    to: f64,
+    omega: f64,
+    opts: &SweepOptions,
+    observer: &mut dyn Observer,
+) -> Result<Curve> {
+    let index = check_sweep_param(model, param, from, to, omega, opts)?;
+    let axis = Axis::Param { index, omega };
+    with_convergence(opts, |o| run(Continuation::new(model, axis, from, to, o)?, observer))
+}
+
+/// Run to the end or to the observer's stop: the curve, and whether it was stopped.
+fn run<M: Model>(mut c: Continuation<'_, M>, observer: &mut dyn Observer) -> Result<(Curve, bool)> {
+    loop {
+        let e = c.step();
+        if e == Event::Finished {
+            observer.observe(&e, c.trace());
+            return Ok((c.finish(), false));
+        }
+        if observer.observe(&e, c.trace()) == Control::Stop {
+            return Ok((c.finish(), true));
+        }
+    }
+}
+
+/// The checks of a frequency sweep.
+fn check_sweep<M: Model>(model: &M, from: f64, to: f64, opts: &SweepOptions) -> Result<()> {
+    check_range("frequency", from, to)?;
+    if from <= 0.0 {
+        return Err(invalid("start frequency", from, "a positive frequency in rad/s"));
+    }
+    check_options(opts)?;
+    model.validate()
+}
+
+/// The checks of a parameter sweep; the parameter's index.
+fn check_sweep_param<M: Model>(
+    model: &M,
+    param: &str,
+    from: f64,
+    to: f64,
+    omega: f64,
+    opts: &SweepOptions,
+) -> Result<usize> {
     let index = model.param_index(param)?;
     check_range(&format!("range of {param}"), from, to)?;
     if !(omega.is_finite() && omega > 0.0) {
@@ -189,7 +352,7 @@ pub fn sweep_param<M: Model>(
     }
     check_options(opts)?;
     model.validate()?;
-    with_convergence(opts, |o| trace(model, Axis::Param { index, omega }, from, to, o))
+    Ok(index)
 }
 
 /// Frequency sweeps of a family of models that differ in `param`, run in parallel
@@ -236,9 +399,7 @@ fn check_range(what: &str, from: f64, to: f64) -> Result<()> {
 }
 
 fn check_options(o: &SweepOptions) -> Result<()> {
-    if o.harmonics == 0 {
-        return Err(invalid("number of harmonics", 0.0, "at least 1"));
-    }
+    crate::fourier::check_harmonics(o.harmonics)?;
     let steps_ok = o.min_step > 0.0 && o.min_step <= o.initial_step && o.initial_step <= o.max_step;
     if !steps_ok || !o.max_step.is_finite() {
         return Err(Error::InvalidValue {
@@ -256,645 +417,4 @@ fn check_options(o: &SweepOptions) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Run once, or rerun with more harmonics until the curve converges.
-fn with_convergence(
-    opts: &SweepOptions,
-    run: impl Fn(&SweepOptions) -> Result<Curve>,
-) -> Result<Curve> {
-    let Some(conv) = opts.convergence else {
-        return run(opts);
-    };
-    let mut o = opts.clone();
-    o.convergence = None;
-    let mut levels: Vec<HarmonicLevel> = Vec::new();
-    let mut prev: Option<(Vec<f64>, Vec<f64>)> = None;
-    loop {
-        let mut curve = run(&o)?;
-        let peaks: Vec<f64> = (0..curve.output_names.len())
-            .map(|k| curve.points.iter().map(|p| p.outputs[k].max_abs).fold(0.0, f64::max))
-            .collect();
-        let folds: Vec<f64> = curve.folds.iter().map(|f| f.param).collect();
-        let change = match &prev {
-            Some((pp, pf)) if pf.len() == folds.len() => {
-                let rel =
-                    |a: f64, b: f64| (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
-                let c1 = peaks.iter().zip(pp).map(|(&a, &b)| rel(a, b)).fold(0.0, f64::max);
-                let c2 = folds.iter().zip(pf).map(|(&a, &b)| rel(a, b)).fold(0.0, f64::max);
-                c1.max(c2)
-            }
-            _ => f64::INFINITY,
-        };
-        levels.push(HarmonicLevel {
-            harmonics: o.harmonics,
-            peaks: peaks.clone(),
-            folds: folds.clone(),
-            change,
-        });
-        let converged = change < conv.tol;
-        if converged || o.harmonics + conv.increment.max(1) > conv.max_harmonics {
-            curve.convergence =
-                Some(HarmonicConvergence { levels, tol: conv.tol, converged, estimate: change });
-            return Ok(curve);
-        }
-        prev = Some((peaks, folds));
-        o.harmonics += conv.increment.max(1);
-    }
-}
-
-/// One accepted point of the trace, in scaled variables.
-struct Node {
-    y: Vec<f64>,
-    /// Unit tangent, oriented along the direction of travel.
-    t: Vec<f64>,
-    /// Direction and length of the step that reached this point from the previous one
-    /// (`border · (y - y_prev) = h`), for locating events inside the step.
-    border: Vec<f64>,
-    h: f64,
-    segment: usize,
-    outputs: Vec<PointOutput>,
-}
-
-struct RawFold {
-    y: Vec<f64>,
-    after: usize,
-    located: bool,
-}
-
-/// Output summaries of a coefficient vector, with a reusable buffer.
-struct OutputEval {
-    harmonics: usize,
-    peaks: crate::fourier::MaxAbs,
-    buf: Vec<f64>,
-    outputs: Vec<Vec<(usize, f64)>>,
-}
-
-impl OutputEval {
-    fn new<M: Model>(model: &M, harmonics: usize) -> Self {
-        OutputEval {
-            harmonics,
-            peaks: crate::fourier::MaxAbs::new(harmonics),
-            buf: vec![0.0; 2 * harmonics + 1],
-            outputs: model.outputs().iter().map(|o| o.terms.to_vec()).collect(),
-        }
-    }
-
-    fn eval(&mut self, coeffs: &[f64], out: &mut Vec<PointOutput>) {
-        let (nh, len) = (self.harmonics, 2 * self.harmonics + 1);
-        out.clear();
-        for terms in &self.outputs {
-            self.buf.fill(0.0);
-            for &(d, c) in terms {
-                for (b, &a) in self.buf.iter_mut().zip(&coeffs[d * len..(d + 1) * len]) {
-                    *b += c * a;
-                }
-            }
-            out.push(PointOutput {
-                max_abs: self.peaks.eval(&self.buf),
-                mean: self.buf[0],
-                amp1: self.buf[1].hypot(self.buf[nh + 1]),
-            });
-        }
-    }
-}
-
-struct Run<'a, 'm, M: Model> {
-    tr: Tracer<'m, M>,
-    opts: &'a SweepOptions,
-    lo: f64,
-    hi: f64,
-    nodes: Vec<Node>,
-    folds: Vec<RawFold>,
-    stats: CurveStats,
-    out: OutputEval,
-    coeffs: Vec<f64>,
-    bound: Option<f64>,
-}
-
-fn trace<M: Model>(model: &M, axis: Axis, lo: f64, hi: f64, opts: &SweepOptions) -> Result<Curve> {
-    let nh = opts.harmonics;
-    let bal = crate::balance::Balance::new(model, nh)?;
-    let mut tr = Tracer::new(bal, axis, opts.tol, opts.max_iter);
-    let n = tr.n;
-    tr.sl = hi - lo;
-    // Reference force: the residual at zero response (the forcing).
-    let sr = tr.reference_force(lo).max(tr.reference_force(hi));
-    tr.sr = if sr > 0.0 && sr.is_finite() { sr } else { 1.0 };
-    // Reference amplitude: the linearised response over the range.
-    let mut sa = 0.0f64;
-    let mut y = vec![0.0; n + 1];
-    let mut e_n = vec![0.0; n + 1];
-    e_n[n] = 1.0;
-    for i in 0..17 {
-        let f = i as f64 / 16.0;
-        let lam = if axis == Axis::Omega { lo * (hi / lo).powf(f) } else { lo + f * (hi - lo) };
-        y.fill(0.0);
-        y[n] = lam / tr.sl;
-        if tr.newton_step(&mut y, &e_n, lam / tr.sl).is_ok() {
-            sa = sa.max(y[..n].iter().fold(0.0, |m: f64, v| m.max(v.abs())));
-        }
-    }
-    tr.sa = if sa > 0.0 && sa.is_finite() { sa } else { 1.0 };
-    let bound = match opts.amplitude_bound {
-        AmplitudeBound::Relative(f) => Some(f),
-        AmplitudeBound::Absolute(_) | AmplitudeBound::None => None,
-    };
-    let mut run = Run {
-        tr,
-        opts,
-        lo,
-        hi,
-        nodes: Vec::new(),
-        folds: Vec::new(),
-        stats: CurveStats::default(),
-        out: OutputEval::new(model, nh),
-        coeffs: vec![0.0; n],
-        bound,
-    };
-    let mut segments = Vec::new();
-    let end0 = run.segment(model, lo, 1.0, 0);
-    let reached_hi = matches!(end0, SegmentEnd::ReachedEnd)
-        && run.nodes.last().is_some_and(|nd| run.tr.lambda(&nd.y) >= hi - 1e-12 * (hi - lo));
-    segments.push(run.segment_record(0, lo, end0));
-    if !reached_hi {
-        let end1 = run.segment(model, hi, -1.0, 1);
-        segments.push(run.segment_record(1, hi, end1));
-    }
-    run.finish(model, axis, segments)
-}
-
-impl<'m, M: Model> Run<'_, 'm, M> {
-    fn segment_record(&self, seg: usize, start: f64, ended: SegmentEnd) -> Segment {
-        let mut it = self.nodes.iter().filter(|nd| nd.segment == seg);
-        let first = it.next().map_or(start, |nd| self.tr.lambda(&nd.y));
-        let last = self
-            .nodes
-            .iter()
-            .rev()
-            .find(|nd| nd.segment == seg)
-            .map_or(start, |nd| self.tr.lambda(&nd.y));
-        Segment { from_omega: first, to_omega: last, ended }
-    }
-
-    /// Solve at `lam` from the linearised response (or the corrector for Ω).
-    fn start(&mut self, model: &M, lam: f64) -> Result<Vec<f64>, String> {
-        let n = self.tr.n;
-        let mut y = vec![0.0; n + 1];
-        let mut e_n = vec![0.0; n + 1];
-        e_n[n] = 1.0;
-        let target = lam / self.tr.sl;
-        y[n] = target;
-        let guess = if self.tr.axis == Axis::Omega {
-            let so = crate::corrector::SolveOptions {
-                harmonics: self.opts.harmonics,
-                ..Default::default()
-            };
-            crate::corrector::solve(model, lam, &so, None).ok().map(|s| s.coeffs)
-        } else {
-            None
-        };
-        match guess {
-            Some(c) => {
-                for (yi, ci) in y.iter_mut().zip(&c) {
-                    *yi = ci / self.tr.sa;
-                }
-            }
-            None => {
-                // Linearised response: one Newton step from zero.
-                self.tr.newton_step(&mut y, &e_n, target)?;
-            }
-        }
-        self.tr.locate(&mut y, &e_n, target).map(|_| y)
-    }
-
-    fn push(&mut self, y: Vec<f64>, t: Vec<f64>, border: Vec<f64>, h: f64, segment: usize) {
-        self.tr.coeffs(&y, &mut self.coeffs);
-        let mut outputs = Vec::new();
-        self.out.eval(&self.coeffs, &mut outputs);
-        self.nodes.push(Node { y, t, border, h, segment, outputs });
-    }
-
-    fn beyond_bound(&self, nd: &Node) -> bool {
-        match self.opts.amplitude_bound {
-            AmplitudeBound::Relative(_) => {
-                let f = self.bound.unwrap_or(f64::INFINITY);
-                nd.y[..self.tr.n].iter().any(|v| v.abs() > f)
-            }
-            AmplitudeBound::Absolute(b) => nd.outputs.iter().any(|o| o.max_abs > b),
-            AmplitudeBound::None => false,
-        }
-    }
-
-    /// Trace one segment from `lam0` in direction `dir` (+1 up, -1 down).
-    fn segment(&mut self, model: &M, lam0: f64, dir: f64, seg: usize) -> SegmentEnd {
-        let n = self.tr.n;
-        let opts = self.opts;
-        let y0 = match self.start(model, lam0) {
-            Ok(y) => y,
-            Err(why) => {
-                return SegmentEnd::Stalled(format!("no solution at the start {lam0}: {why}"))
-            }
-        };
-        let mut t0 = vec![0.0; n + 1];
-        self.tr.tangent(&mut t0);
-        if t0[n] * dir < 0.0 {
-            t0.iter_mut().for_each(|v| *v = -*v);
-        }
-        let mut border = vec![0.0; n + 1];
-        border[n] = dir;
-        self.push(y0, t0, border, 0.0, seg);
-        if self.beyond_bound(self.nodes.last().expect("just pushed")) {
-            return SegmentEnd::AmplitudeBound;
-        }
-        let (lo_s, hi_s) = (self.lo / self.tr.sl, self.hi / self.tr.sl);
-        let mut h = opts.initial_step;
-        let mut y = vec![0.0; n + 1];
-        let mut t = vec![0.0; n + 1];
-        let mut dirv = vec![0.0; n + 1];
-        let first = self.nodes.len() - 1;
-        loop {
-            if self.stats.steps >= opts.max_steps {
-                return SegmentEnd::Stalled(format!("step limit {} reached", opts.max_steps));
-            }
-            let last = self.nodes.len() - 1;
-            {
-                let nd = &self.nodes[last];
-                match opts.predictor {
-                    Predictor::Secant if last > first => {
-                        let prev = &self.nodes[last - 1];
-                        for i in 0..=n {
-                            dirv[i] = nd.y[i] - prev.y[i];
-                        }
-                        let norm = dot(&dirv, &dirv).sqrt();
-                        dirv.iter_mut().for_each(|v| *v /= norm);
-                    }
-                    _ => dirv.copy_from_slice(&nd.t),
-                }
-                for i in 0..=n {
-                    y[i] = nd.y[i] + h * dirv[i];
-                }
-                // Second order: the curvature from the last two tangents, so that the
-                // first Newton step lands close enough for chord updates to finish.
-                if opts.predictor == Predictor::Tangent && last > first && nd.h > 0.0 {
-                    let prev = &self.nodes[last - 1];
-                    let f = 0.5 * h * h / nd.h;
-                    for i in 0..=n {
-                        y[i] += f * (nd.t[i] - prev.t[i]);
-                    }
-                }
-            }
-            let target = dot(&dirv, &self.nodes[last].y) + h;
-            let it = match self.tr.correct(&mut y, &dirv, target) {
-                Ok(it) => it,
-                Err(why) => {
-                    self.stats.rejected_steps += 1;
-                    h *= 0.5;
-                    if h < opts.min_step {
-                        return SegmentEnd::Stalled(why);
-                    }
-                    continue;
-                }
-            };
-            self.tr.tangent(&mut t);
-            let cosang = dot(&self.nodes[last].t, &t).clamp(-1.0, 1.0);
-            let angle = cosang.acos();
-            if angle > 2.0 * opts.max_turn && h > 2.0 * opts.min_step {
-                self.stats.rejected_steps += 1;
-                h *= 0.5;
-                continue;
-            }
-            self.stats.steps += 1;
-            // Left the range: land exactly on its end.
-            if y[n] > hi_s || y[n] < lo_s {
-                let b = if y[n] > hi_s { hi_s } else { lo_s };
-                let yl = &self.nodes[last].y;
-                let f = (b - yl[n]) / (y[n] - yl[n]);
-                let mut yb: Vec<f64> = yl.iter().zip(&y).map(|(a, c)| a + f * (c - a)).collect();
-                let mut e_n = vec![0.0; n + 1];
-                e_n[n] = 1.0;
-                return match self.tr.locate_exact(&mut yb, &e_n, b) {
-                    Ok(_) => {
-                        let mut tb = vec![0.0; n + 1];
-                        self.tr.tangent(&mut tb);
-                        if dot(&tb, &self.nodes[last].t) < 0.0 {
-                            tb.iter_mut().for_each(|v| *v = -*v);
-                        }
-                        let hb = dot(&dirv, &yb) - dot(&dirv, &self.nodes[last].y);
-                        self.push(yb, tb, dirv.clone(), hb, seg);
-                        SegmentEnd::ReachedEnd
-                    }
-                    Err(why) => {
-                        self.push(y.clone(), t.clone(), dirv.clone(), h, seg);
-                        SegmentEnd::Stalled(format!("could not land on the range end: {why}"))
-                    }
-                };
-            }
-            if self.nodes[last].t[n] * t[n] < 0.0 {
-                self.locate_fold(last, &dirv, h, t[n]);
-            }
-            self.push(y.clone(), t.clone(), dirv.clone(), h, seg);
-            if self.beyond_bound(self.nodes.last().expect("just pushed")) {
-                return SegmentEnd::AmplitudeBound;
-            }
-            // Step control: corrector effort and tangent turn.
-            // (Newton iterations: chord updates in between are cheap.)
-            let mut factor: f64 = match it {
-                0..=1 => 1.6,
-                2 => 1.25,
-                3 => 1.0,
-                _ => 0.6,
-            };
-            if angle > 0.0 {
-                factor = factor.min(opts.max_turn / angle);
-            }
-            // Far above the reference amplitude (a branch climbing an asymptote) the
-            // natural step is relative: let the largest step grow with the response.
-            let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
-            h = (h * factor.clamp(0.25, 2.0)).clamp(opts.min_step, opts.max_step * amp);
-        }
-    }
-}
-
-/// A sign-change bracket `[a, b]` of a function along the step, narrowed by regula
-/// falsi with the Illinois modification (halve the stale end's value when the same
-/// end moves twice), which keeps superlinear convergence without stalling.
-struct Illinois {
-    a: f64,
-    fa: f64,
-    b: f64,
-    fb: f64,
-    side: i8,
-}
-
-impl Illinois {
-    /// The bracket `[0, h]` with function values `fa` at 0 and `fb` at `h`.
-    fn new(h: f64, fa: f64, fb: f64) -> Self {
-        Illinois { a: 0.0, fa, b: h, fb, side: 0 }
-    }
-
-    /// The next trial point (the secant root, or the midpoint if that leaves the bracket).
-    fn next(&self) -> f64 {
-        let (a, fa, b, fb) = (self.a, self.fa, self.b, self.fb);
-        let s = if fb != fa { (a * fb - b * fa) / (fb - fa) } else { 0.5 * (a + b) };
-        if s > a && s < b {
-            s
-        } else {
-            0.5 * (a + b)
-        }
-    }
-
-    /// Replace the end with the same sign as `f` by `s`.
-    fn update(&mut self, s: f64, f: f64) {
-        if f * self.fa > 0.0 {
-            self.a = s;
-            self.fa = f;
-            if self.side == -1 {
-                self.fb *= 0.5;
-            }
-            self.side = -1;
-        } else {
-            self.b = s;
-            self.fb = f;
-            if self.side == 1 {
-                self.fa *= 0.5;
-            }
-            self.side = 1;
-        }
-    }
-
-    /// Width of the bracket.
-    fn width(&self) -> f64 {
-        self.b - self.a
-    }
-}
-
-impl<'m, M: Model> Run<'_, 'm, M> {
-    /// Locate the fold inside the step from `nodes[last]` (direction `dirv`, length
-    /// `h`) by regula falsi (Illinois) on the λ-component of the tangent.
-    fn locate_fold(&mut self, last: usize, dirv: &[f64], h: f64, f_end: f64) {
-        let n = self.tr.n;
-        let y_i = self.nodes[last].y.clone();
-        let base = dot(dirv, &y_i);
-        let mut bracket = Illinois::new(h, self.nodes[last].t[n], f_end);
-        let mut y = vec![0.0; n + 1];
-        let mut t = vec![0.0; n + 1];
-        let mut best: Option<Vec<f64>> = None;
-        let mut located = false;
-        for _ in 0..100 {
-            let s = bracket.next();
-            for i in 0..=n {
-                y[i] = y_i[i] + s * dirv[i];
-            }
-            if self.tr.locate_exact(&mut y, dirv, base + s).is_err() {
-                break;
-            }
-            self.tr.tangent(&mut t);
-            let f = t[n];
-            best = Some(y.clone());
-            if f.abs() < 1e-13 || bracket.width() < 1e-14 * h {
-                located = true;
-                break;
-            }
-            bracket.update(s, f);
-        }
-        // Not located: the fold is still there (the tangent turned between two
-        // converged points); report the last converged trial, or the point before it.
-        let y = best.unwrap_or(y_i);
-        self.folds.push(RawFold { y, after: last, located });
-    }
-
-    /// Locate where `growth` (largest Re λ minus the tolerance) changes sign inside
-    /// the step into `nodes[i + 1]`; the point there, and whether the search converged.
-    fn locate_stability_change(
-        &mut self,
-        hill: &mut Hill,
-        so: &StabilityOptions,
-        i: usize,
-        g0: f64,
-        g1: f64,
-    ) -> (Vec<f64>, bool) {
-        let n = self.tr.n;
-        let y_i = self.nodes[i].y.clone();
-        let dirv = self.nodes[i + 1].border.clone();
-        let h = self.nodes[i + 1].h;
-        let base = dot(&dirv, &y_i);
-        let mut bracket = Illinois::new(h, g0, g1);
-        let mut y = vec![0.0; n + 1];
-        let mut best = self.nodes[if g0.abs() < g1.abs() { i } else { i + 1 }].y.clone();
-        let mut coeffs = vec![0.0; n];
-        for _ in 0..40 {
-            let s = bracket.next();
-            for k in 0..=n {
-                y[k] = y_i[k] + s * dirv[k];
-            }
-            if self.tr.locate(&mut y, &dirv, base + s).is_err() {
-                break;
-            }
-            self.tr.set_point(&y);
-            self.tr.coeffs(&y, &mut coeffs);
-            let omega = self.tr.omega(&y);
-            let Ok(fl) = hill.analyse(&mut self.tr.bal, &coeffs, omega, so) else {
-                break;
-            };
-            let f = fl.max_real - so.tol * omega;
-            best.copy_from_slice(&y);
-            if f == 0.0 || bracket.width() < 1e-10 * h {
-                return (best, true);
-            }
-            bracket.update(s, f);
-        }
-        (best, false)
-    }
-
-    /// Replace the polyline's landing amplitudes by the solution at the jump's
-    /// parameter, corrected from the interpolated coefficients (kept as they are if
-    /// the corrector fails there).
-    fn land_exactly(
-        &mut self,
-        jumps: &mut [crate::results::Jump],
-        landings: &[Landing],
-        nout: usize,
-    ) {
-        let n = self.tr.n;
-        let mut e_n = vec![0.0; n + 1];
-        e_n[n] = 1.0;
-        for l in landings {
-            let Some(first) = jumps.get(l.jump) else { continue };
-            let (ya, yb) = (&self.nodes[l.a].y, &self.nodes[l.b].y);
-            let mut y: Vec<f64> = ya.iter().zip(yb).map(|(p, q)| p + l.w * (q - p)).collect();
-            let target = first.omega / self.tr.sl;
-            y[n] = target;
-            if self.tr.locate(&mut y, &e_n, target).is_err() {
-                continue;
-            }
-            let (_, _, _, outputs) = self.point_at(&y);
-            for (j, o) in jumps[l.jump..].iter_mut().take(nout).zip(&outputs) {
-                j.to = o.max_abs;
-            }
-        }
-    }
-
-    /// Unscaled point data at `y`.
-    fn point_at(&mut self, y: &[f64]) -> (f64, f64, Vec<f64>, Vec<PointOutput>) {
-        let mut coeffs = vec![0.0; self.tr.n];
-        self.tr.coeffs(y, &mut coeffs);
-        let mut outputs = Vec::new();
-        self.out.eval(&coeffs, &mut outputs);
-        (self.tr.omega(y), self.tr.lambda(y), coeffs, outputs)
-    }
-
-    /// Stability, bifurcations and jumps of the traced nodes; the curve.
-    fn finish(mut self, model: &M, axis: Axis, segments: Vec<Segment>) -> Result<Curve> {
-        let nodes = std::mem::take(&mut self.nodes);
-        let mut points: Vec<CurvePoint> = nodes
-            .iter()
-            .map(|nd| {
-                let mut coeffs = vec![0.0; self.tr.n];
-                self.tr.coeffs(&nd.y, &mut coeffs);
-                CurvePoint {
-                    omega: self.tr.omega(&nd.y),
-                    param: self.tr.lambda(&nd.y),
-                    coeffs,
-                    stable: true,
-                    outputs: nd.outputs.clone(),
-                    segment: nd.segment,
-                }
-            })
-            .collect();
-        let raw = std::mem::take(&mut self.folds);
-        let mut folds = Vec::with_capacity(raw.len());
-        let mut bifurcations = Vec::new();
-        for f in &raw {
-            let (omega, param, coeffs, outputs) = self.point_at(&f.y);
-            bifurcations.push(Bifurcation {
-                kind: BifurcationKind::Fold,
-                omega,
-                param,
-                after: f.after,
-                outputs: outputs.clone(),
-                located: f.located,
-            });
-            folds.push(Fold { omega, param, coeffs, outputs, after: f.after, located: f.located });
-        }
-        self.nodes = nodes;
-        if let Some(so) = self.opts.stability {
-            let mut hill = Hill::new(model, self.opts.harmonics)?;
-            let mut growth = vec![f64::NAN; points.len()];
-            let mut kinds = vec![None; points.len()];
-            for (i, p) in points.iter_mut().enumerate() {
-                // Exponents are tracked from point to point, except across a segment
-                // start or a fold (there the full analysis runs).
-                let continues = i > 0
-                    && self.nodes[i].segment == self.nodes[i - 1].segment
-                    && !raw.iter().any(|f| f.after + 1 == i);
-                if !continues {
-                    hill.reset();
-                }
-                self.tr.set_point(&self.nodes[i].y);
-                match hill.track(&mut self.tr.bal, &p.coeffs, p.omega, &so) {
-                    Ok(f) => {
-                        p.stable = f.stable;
-                        growth[i] = f.max_real - so.tol * p.omega;
-                        kinds[i] = f.leading_crossing(p.omega);
-                        self.stats.stability_unrefined += usize::from(!f.refined);
-                    }
-                    // Not shown stable: say so rather than guess.
-                    Err(_) => {
-                        p.stable = false;
-                        self.stats.stability_unrefined += 1;
-                    }
-                }
-            }
-            self.stats.stability_full = hill.counts().full;
-            for i in 0..points.len().saturating_sub(1) {
-                let same = self.nodes[i].segment == self.nodes[i + 1].segment;
-                if !same
-                    || points[i].stable == points[i + 1].stable
-                    || raw.iter().any(|f| f.after == i)
-                {
-                    continue;
-                }
-                if !(growth[i].is_finite() && growth[i + 1].is_finite()) {
-                    continue;
-                }
-                let unstable = if points[i].stable { i + 1 } else { i };
-                let kind = match kinds[unstable] {
-                    Some(Crossing::Real) => BifurcationKind::BranchPoint,
-                    Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
-                    _ => BifurcationKind::Torus,
-                };
-                let (y, located) =
-                    self.locate_stability_change(&mut hill, &so, i, growth[i], growth[i + 1]);
-                let (omega, param, _, outputs) = self.point_at(&y);
-                bifurcations.push(Bifurcation { kind, omega, param, after: i, outputs, located });
-            }
-            bifurcations.sort_by_key(|b| b.after);
-        }
-        self.stats.folds = folds.len();
-        self.stats.folds_unlocated = folds.iter().filter(|f| !f.located).count();
-        self.stats.corrector_iterations = self.tr.iterations;
-        self.stats.chord_steps = self.tr.chord_steps;
-        let output_names: Vec<String> =
-            model.outputs().iter().map(|o| o.name.to_string()).collect();
-        let (mut jumps, landings) = find_landings(&points, &folds, &output_names);
-        self.land_exactly(&mut jumps, &landings, output_names.len());
-        Ok(Curve {
-            model: model.name().to_string(),
-            harmonics: self.opts.harmonics,
-            parameter: match axis {
-                Axis::Omega => "omega".to_string(),
-                Axis::Param { index, .. } => model.params_info()[index].name.to_string(),
-            },
-            output_names,
-            points,
-            stability_checked: self.opts.stability.is_some(),
-            folds,
-            jumps,
-            segments,
-            stats: self.stats,
-            bifurcations,
-            convergence: None,
-        })
-    }
 }

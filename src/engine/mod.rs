@@ -5,15 +5,13 @@
 //! and the command line. Nothing here imports either.
 
 use crate::balance::Balance;
-use crate::continuation;
+use crate::continuation::{self, Observer};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::report::{SimOutput, SimRecord, SolveRecord};
-use crate::results::Curve;
+use crate::results::{Curve, SimOutput, SimRecord, SolveRecord, Stability, Unknown};
 use crate::stability::{Hill, StabilityOptions};
-use crate::timedomain::{self, Scheme, SimOptions};
-use serde::{Deserialize, Serialize};
+use crate::timedomain::{self, CompareRow, Scheme, SimOptions};
 
 pub mod progress;
 pub mod registry;
@@ -30,27 +28,7 @@ pub struct SolveSettings {
 
 impl Default for SolveSettings {
     fn default() -> Self {
-        SolveSettings { harmonics: 5 }
-    }
-}
-
-/// The time-integration scheme of `simulate`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum SchemeName {
-    /// Grünwald–Letnikov, first order (the paper's "power series expansion").
-    Gl,
-    /// Second-order (BDF2-type) fractional rule.
-    Bdf2,
-}
-
-impl SchemeName {
-    /// `"gl"` or `"bdf2"`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            SchemeName::Gl => "gl",
-            SchemeName::Bdf2 => "bdf2",
-        }
+        SolveSettings { harmonics: crate::fourier::DEFAULT_HARMONICS }
     }
 }
 
@@ -62,12 +40,25 @@ pub struct SimSettings {
     /// Forcing periods to integrate (at least `timedomain::MIN_PERIODS`).
     pub periods: usize,
     /// Scheme.
-    pub scheme: SchemeName,
+    pub scheme: Scheme,
+}
+
+impl SimSettings {
+    /// The integrator's options for these settings.
+    pub fn options(&self) -> SimOptions {
+        SimOptions {
+            dt: self.dt,
+            periods: self.periods,
+            scheme: self.scheme,
+            ..SimOptions::default()
+        }
+    }
 }
 
 impl Default for SimSettings {
     fn default() -> Self {
-        SimSettings { dt: None, periods: 100, scheme: SchemeName::Bdf2 }
+        let d = SimOptions::default();
+        SimSettings { dt: d.dt, periods: d.periods, scheme: d.scheme }
     }
 }
 
@@ -84,19 +75,6 @@ pub fn check_omega(what: &str, omega: f64) -> Result<()> {
     }
 }
 
-/// Check a harmonic count: >= 1.
-pub fn check_harmonics(n: usize) -> Result<()> {
-    if n >= 1 {
-        Ok(())
-    } else {
-        Err(Error::InvalidValue {
-            what: "number of harmonics".into(),
-            value: n.to_string(),
-            expected: "N >= 1".into(),
-        })
-    }
-}
-
 /// Solve at one frequency from the linearized guess. A Newton failure is not an error
 /// here: the record carries `converged: false` and the last iterate.
 pub fn solve<M: Model>(
@@ -106,7 +84,7 @@ pub fn solve<M: Model>(
     s: &SolveSettings,
 ) -> Result<SolveRecord> {
     check_omega("omega", omega)?;
-    check_harmonics(s.harmonics)?;
+    crate::fourier::check_harmonics(s.harmonics)?;
     let opts = SolveOptions { harmonics: s.harmonics, ..SolveOptions::default() };
     let (coeffs, converged, iterations, residual_norm) =
         match corrector::solve(model, omega, &opts, None) {
@@ -116,7 +94,7 @@ pub fn solve<M: Model>(
             }
             Err(e) => return Err(e),
         };
-    let stable = stability(model, omega, s.harmonics, &coeffs, converged);
+    let stability = stability(model, omega, s.harmonics, &coeffs, converged);
     Ok(SolveRecord {
         model: name.to_string(),
         omega,
@@ -124,48 +102,46 @@ pub fn solve<M: Model>(
         converged,
         iterations,
         residual_norm,
-        stable,
+        stability,
         outputs: corrector::output_summaries(model, &coeffs, s.harmonics),
     })
 }
 
-/// Stability verdict of a converged solution (Hill's method); `None` when it could not
-/// be computed (not converged, or the eigenproblem failed).
+/// Stability of a solution by Hill's method, or why there is no verdict.
 fn stability<M: Model>(
     model: &M,
     omega: f64,
     harmonics: usize,
     coeffs: &[f64],
     converged: bool,
-) -> Option<bool> {
+) -> Stability {
     if !converged {
-        return None;
+        return Stability::Unknown(Unknown::NotConverged);
     }
-    let mut hill = Hill::new(model, harmonics).ok()?;
-    let mut bal = Balance::new(model, harmonics).ok()?;
-    hill.analyse(&mut bal, coeffs, omega, &StabilityOptions::default()).ok().map(|f| f.stable)
+    let analysis = Hill::new(model, harmonics).and_then(|mut hill| {
+        let mut bal = Balance::new(model, harmonics)?;
+        hill.analyse(&mut bal, coeffs, omega, &StabilityOptions::default())
+    });
+    match analysis {
+        Ok(f) => Stability::from_verdict(f.stable),
+        Err(e) => Stability::Unknown(Unknown::Failed(e.to_string())),
+    }
 }
 
-/// Trace the amplitude–frequency curve from `from` to `to` (rad/s).
+/// Trace the amplitude–frequency curve from `from` to `to` (rad/s), watched by
+/// `observer` (the range itself is checked by the continuation).
 pub fn sweep<M: Model>(
     name: &str,
     model: &M,
     from: f64,
     to: f64,
     s: &SweepSettings,
+    observer: &mut dyn Observer,
 ) -> Result<Curve> {
     check_omega("--from", from)?;
     check_omega("--to", to)?;
-    check_harmonics(s.harmonics)?;
-    if from >= to {
-        return Err(Error::InvalidValue {
-            what: "frequency range".into(),
-            value: format!("from {from} to {to}"),
-            expected: "from < to".into(),
-        });
-    }
     let opts = s.options().map_err(|e| e.cli())?;
-    let mut curve = continuation::sweep(model, from, to, &opts)?;
+    let mut curve = continuation::sweep_with(model, from, to, &opts, observer)?;
     curve.model = name.to_string();
     Ok(curve)
 }
@@ -190,20 +166,12 @@ pub fn sweep_param<M: Model>(
     model: &M,
     r: &ParamRange,
     s: &SweepSettings,
+    observer: &mut dyn Observer,
 ) -> Result<Curve> {
     let ParamRange { param, from, to, omega } = *r;
     check_omega("--omega", omega)?;
-    check_harmonics(s.harmonics)?;
-    model.param_index(param)?;
-    if !(from.is_finite() && to.is_finite() && from < to) {
-        return Err(Error::InvalidValue {
-            what: format!("--from/--to range of {param}"),
-            value: format!("from {from} to {to}"),
-            expected: "finite values with from < to".into(),
-        });
-    }
     let opts = s.options().map_err(|e| e.cli())?;
-    let mut curve = continuation::sweep_param(model, param, from, to, omega, &opts)?;
+    let mut curve = continuation::sweep_param_with(model, param, from, to, omega, &opts, observer)?;
     curve.model = name.to_string();
     Ok(curve)
 }
@@ -211,26 +179,25 @@ pub fn sweep_param<M: Model>(
 /// Integrate from rest and report the steady statistics of every output.
 pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) -> Result<SimRecord> {
     check_omega("omega", omega)?;
-    let opts = SimOptions {
-        dt: s.dt,
-        periods: s.periods,
-        scheme: match s.scheme {
-            SchemeName::Gl => Scheme::Gl,
-            SchemeName::Bdf2 => Scheme::Bdf2,
-        },
-        ..SimOptions::default()
-    };
-    let sim = timedomain::simulate(model, omega, &opts)?;
+    let sim = timedomain::simulate(model, omega, &s.options())?;
     Ok(SimRecord {
         model: name.to_string(),
         omega,
         dt: sim.dt,
         periods: sim.periods,
-        scheme: s.scheme.as_str().to_string(),
+        scheme: s.scheme.name().to_string(),
         outputs: sim
             .outputs
             .iter()
             .map(|o| SimOutput { name: o.name.clone(), max_abs: o.max_abs, mean: o.mean })
             .collect(),
     })
+}
+
+/// Harmonic balance (N = `harmonics`, from the linearised guess) against time
+/// integration from rest at `omega`: the comparison of
+/// [`timedomain::compare_at`], failures of either method recorded in the row.
+pub fn compare<M: Model>(model: &M, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
+    let hb = SolveOptions { harmonics, ..SolveOptions::default() };
+    timedomain::compare_at(model, omega, &s.options(), &hb)
 }

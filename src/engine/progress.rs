@@ -1,5 +1,8 @@
-//! Progress bars on standard error, shown only when it is a terminal.
+//! Progress on standard error, shown only when it is a terminal: a spinner for one
+//! computation, a bar over a study's jobs, and [`CurveProgress`], the continuation
+//! observer that shows a sweep's points as they are accepted.
 
+use crate::continuation::{Control, Event, Observer, Trace};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Duration;
@@ -33,4 +36,35 @@ pub fn bar(len: u64, msg: &str) -> ProgressBar {
     );
     pb.set_message(msg.to_string());
     pb
+}
+
+/// Shows a running continuation on a spinner or bar: the label, the points accepted
+/// so far and where the curve is. It never stops the run.
+pub struct CurveProgress {
+    pb: ProgressBar,
+    label: String,
+}
+
+impl CurveProgress {
+    /// Report on `pb` (a [`spinner`], or a study's [`bar`] shared by its jobs) under `label`.
+    pub fn new(pb: ProgressBar, label: &str) -> Self {
+        CurveProgress { pb, label: label.to_string() }
+    }
+}
+
+impl Observer for CurveProgress {
+    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
+        if let Event::Point(i) = *event {
+            if let Some(p) = trace.points.get(i) {
+                self.pb.set_message(format!(
+                    "{}: {} points, {} = {:.6}",
+                    self.label,
+                    trace.points.len(),
+                    trace.parameter,
+                    p.param
+                ));
+            }
+        }
+        Control::Continue
+    }
 }

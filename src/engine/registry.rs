@@ -5,10 +5,11 @@
 //! monomorphises solve, sweep and simulate for `M`.
 
 use super::{self as engine, ParamRange, SimSettings, SolveSettings, SweepSettings};
+use crate::continuation::Observer;
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo, Text};
-use crate::report::{SimRecord, SolveRecord};
-use crate::results::Curve;
+use crate::results::{Curve, SimRecord, SolveRecord};
+use crate::timedomain::CompareRow;
 
 /// A registered model with its current parameter values, usable without its type.
 pub trait AnyModel: Send + Sync {
@@ -31,11 +32,19 @@ pub trait AnyModel: Send + Sync {
     /// Solve at one frequency.
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
     /// Trace a frequency sweep.
-    fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve>;
+    fn sweep(&self, from: f64, to: f64, s: &SweepSettings, obs: &mut dyn Observer)
+        -> Result<Curve>;
     /// Trace the response at a fixed frequency as one parameter moves.
-    fn sweep_param(&self, r: &ParamRange, s: &SweepSettings) -> Result<Curve>;
+    fn sweep_param(
+        &self,
+        r: &ParamRange,
+        s: &SweepSettings,
+        obs: &mut dyn Observer,
+    ) -> Result<Curve>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
+    /// Harmonic balance against time integration at one frequency.
+    fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow;
     /// A copy with the same parameter values.
     fn clone_box(&self) -> Box<dyn AnyModel>;
 }
@@ -94,16 +103,30 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
         engine::solve(&self.name, &self.model, omega, s)
     }
-    fn sweep(&self, from: f64, to: f64, s: &SweepSettings) -> Result<Curve> {
-        let mut c = engine::sweep(&self.name, &self.model, from, to, s)?;
+    fn sweep(
+        &self,
+        from: f64,
+        to: f64,
+        s: &SweepSettings,
+        obs: &mut dyn Observer,
+    ) -> Result<Curve> {
+        let mut c = engine::sweep(&self.name, &self.model, from, to, s, obs)?;
         c.model = self.name.clone();
         Ok(c)
     }
-    fn sweep_param(&self, r: &ParamRange, s: &SweepSettings) -> Result<Curve> {
-        engine::sweep_param(&self.name, &self.model, r, s).map_err(|e| self.named(e))
+    fn sweep_param(
+        &self,
+        r: &ParamRange,
+        s: &SweepSettings,
+        obs: &mut dyn Observer,
+    ) -> Result<Curve> {
+        engine::sweep_param(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)
+    }
+    fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
+        engine::compare(&self.model, omega, s, harmonics)
     }
     fn clone_box(&self) -> Box<dyn AnyModel> {
         Box::new(self.clone())

@@ -4,12 +4,13 @@
 //! `sweep.max_step`) from the same [`SettingError`].
 //!
 //! ```
-//! use ihbm::engine::settings::{Bound, SweepSettings};
+//! use ihbm::continuation::AmplitudeBound;
+//! use ihbm::engine::settings::SweepSettings;
 //! let s = SweepSettings { harmonics: 3, max_step: Some(0.02), ..Default::default() };
 //! let o = s.options().unwrap();
 //! // The unspecified first step shrinks to fit under the given largest step.
 //! assert_eq!((o.harmonics, o.max_step, o.initial_step), (3, 0.02, 0.01));
-//! assert_eq!("rel:1e3".parse::<Bound>(), Ok(Bound::Relative(1e3)));
+//! assert_eq!("rel:1e3".parse::<AmplitudeBound>(), Ok(AmplitudeBound::Relative(1e3)));
 //! let bad = SweepSettings { min_step: Some(0.5), max_step: Some(0.1), ..Default::default() };
 //! assert_eq!(bad.options().unwrap_err().cli().to_string(),
 //!            "invalid --min-step: 0.5 (expected at most --max-step (0.1))");
@@ -18,8 +19,6 @@
 use crate::continuation::{AmplitudeBound, ConvergenceOptions, Predictor, SweepOptions};
 use crate::error::Error;
 use serde::{Deserialize, Serialize};
-use std::fmt;
-use std::str::FromStr;
 
 /// Settings of a continuation run; `None` keeps the solver's default
 /// ([`SweepOptions::default`]). Steps are in the solver's scaled arc length, where the
@@ -39,9 +38,9 @@ pub struct SweepSettings {
     /// Corrector (Newton) tolerance on the scaled step.
     pub tol: Option<f64>,
     /// Predictor direction.
-    pub predictor: Option<PredictorName>,
+    pub predictor: Option<Predictor>,
     /// When a branch counts as running away (a number means `abs:`).
-    pub amplitude_bound: Option<Bound>,
+    pub amplitude_bound: Option<AmplitudeBound>,
     /// Cap on the accepted continuation steps.
     pub max_steps: Option<usize>,
     /// Hill stability of every point (`false` skips it).
@@ -49,105 +48,6 @@ pub struct SweepSettings {
     /// Harmonic convergence: rerun with N, N+2, ... until peaks and folds change by
     /// less than this relative tolerance.
     pub converge: Option<f64>,
-}
-
-/// The predictor by name (`tangent`, `secant`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum PredictorName {
-    /// The unit tangent at the last point.
-    Tangent,
-    /// The secant through the last two points.
-    Secant,
-}
-
-/// The amplitude bound as written: `rel:F`, `abs:A`, `none`, or a plain number (`abs:`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Bound {
-    /// F times the largest Fourier coefficient of the linearised response.
-    Relative(f64),
-    /// Any output's `max_abs` above A.
-    Absolute(f64),
-    /// No bound.
-    None,
-}
-
-/// What a valid amplitude bound looks like (for error messages).
-pub const BOUND_SYNTAX: &str =
-    "rel:F, abs:A or none, with F and A finite numbers > 0 (e.g. rel:1e3, abs:0.5)";
-
-impl FromStr for Bound {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        let t = s.trim();
-        if t.eq_ignore_ascii_case("none") {
-            return Ok(Bound::None);
-        }
-        let (kind, num) = match t.split_once(':') {
-            Some((k, v)) => (k.trim().to_ascii_lowercase(), v.trim()),
-            None => ("abs".to_string(), t),
-        };
-        let x = match num.parse::<f64>() {
-            Ok(x) if x.is_finite() && x > 0.0 => x,
-            _ => return Err(format!("expected {BOUND_SYNTAX}")),
-        };
-        match kind.as_str() {
-            "rel" => Ok(Bound::Relative(x)),
-            "abs" => Ok(Bound::Absolute(x)),
-            _ => Err(format!("expected {BOUND_SYNTAX}")),
-        }
-    }
-}
-
-impl fmt::Display for Bound {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Bound::Relative(x) => write!(f, "rel:{x}"),
-            Bound::Absolute(x) => write!(f, "abs:{x}"),
-            Bound::None => write!(f, "none"),
-        }
-    }
-}
-
-impl From<Bound> for AmplitudeBound {
-    fn from(b: Bound) -> Self {
-        match b {
-            Bound::Relative(x) => AmplitudeBound::Relative(x),
-            Bound::Absolute(x) => AmplitudeBound::Absolute(x),
-            Bound::None => AmplitudeBound::None,
-        }
-    }
-}
-
-impl Serialize for Bound {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(&self.to_string())
-    }
-}
-
-impl<'de> Deserialize<'de> for Bound {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl serde::de::Visitor<'_> for V {
-            type Value = Bound;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                write!(f, "{BOUND_SYNTAX}, or a number (abs:)")
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Bound, E> {
-                v.parse().map_err(|m: String| E::custom(format!("amplitude_bound '{v}': {m}")))
-            }
-            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Bound, E> {
-                self.visit_str(&v.to_string())
-            }
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Bound, E> {
-                self.visit_str(&v.to_string())
-            }
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Bound, E> {
-                self.visit_str(&v.to_string())
-            }
-        }
-        d.deserialize_any(V)
-    }
 }
 
 /// A setting out of range. `key` is the study-file key (`max_step`); [`Self::flag`]
@@ -271,13 +171,9 @@ impl SweepSettings {
             min_step,
             max_step,
             tol: tol.unwrap_or(d.tol),
-            predictor: match self.predictor {
-                Some(PredictorName::Secant) => Predictor::Secant,
-                Some(PredictorName::Tangent) => Predictor::Tangent,
-                None => d.predictor,
-            },
+            predictor: self.predictor.unwrap_or(d.predictor),
             max_steps: self.max_steps.unwrap_or(d.max_steps),
-            amplitude_bound: self.amplitude_bound.map_or(d.amplitude_bound, Into::into),
+            amplitude_bound: self.amplitude_bound.unwrap_or(d.amplitude_bound),
             stability: if self.stability == Some(false) { None } else { d.stability },
             convergence,
             ..d
@@ -310,17 +206,17 @@ mod tests {
     #[test]
     fn bounds_parse_and_print_round_trip() {
         for (s, b) in [
-            ("rel:1e3", Bound::Relative(1e3)),
-            ("abs:0.5", Bound::Absolute(0.5)),
-            ("ABS: 2", Bound::Absolute(2.0)),
-            ("0.25", Bound::Absolute(0.25)),
-            ("none", Bound::None),
+            ("rel:1e3", AmplitudeBound::Relative(1e3)),
+            ("abs:0.5", AmplitudeBound::Absolute(0.5)),
+            ("ABS: 2", AmplitudeBound::Absolute(2.0)),
+            ("0.25", AmplitudeBound::Absolute(0.25)),
+            ("none", AmplitudeBound::None),
         ] {
-            assert_eq!(s.parse::<Bound>(), Ok(b), "{s}");
-            assert_eq!(b.to_string().parse::<Bound>(), Ok(b));
+            assert_eq!(s.parse::<AmplitudeBound>(), Ok(b), "{s}");
+            assert_eq!(b.to_string().parse::<AmplitudeBound>(), Ok(b));
         }
         for s in ["rel:", "rel:-1", "abs:0", "abs:inf", "max:3", "x", ""] {
-            assert!(s.parse::<Bound>().is_err(), "{s}");
+            assert!(s.parse::<AmplitudeBound>().is_err(), "{s}");
         }
     }
 

@@ -9,11 +9,11 @@ use std::fmt::Write;
 /// sweep's first column is the parameter (`curve.parameter`) and its values.
 ///
 /// ```
-/// use ihbm::results::{Curve, CurvePoint, CurveStats, PointOutput};
+/// use ihbm::results::{Curve, CurvePoint, CurveStats, Parameter, PointOutput, Stability};
 /// let curve = Curve {
-///     model: "m".into(), harmonics: 1, parameter: "omega".into(),
+///     model: "m".into(), harmonics: 1, parameter: Parameter::Omega,
 ///     output_names: vec!["x".into()],
-///     points: vec![CurvePoint { omega: 2.0, param: 2.0, coeffs: vec![], stable: true,
+///     points: vec![CurvePoint { omega: 2.0, param: 2.0, coeffs: vec![], stability: Stability::Stable,
 ///         outputs: vec![PointOutput { max_abs: 0.5, mean: 0.0, amp1: 0.5 }], segment: 0 }],
 ///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
 ///     bifurcations: vec![], convergence: None };
@@ -21,7 +21,7 @@ use std::fmt::Write;
 ///            "omega,stable,x_max_abs,x_mean,x_amp1\n2,true,0.5,0,0.5\n");
 /// ```
 pub fn curve_csv(curve: &Curve) -> String {
-    let by_param = curve.parameter != "omega";
+    let by_param = !curve.parameter.is_omega();
     let mut s = format!("{},stable", curve.parameter);
     for name in &curve.output_names {
         // Writing to a String cannot fail.
@@ -30,7 +30,8 @@ pub fn curve_csv(curve: &Curve) -> String {
     s.push('\n');
     for p in &curve.points {
         let x = if by_param { p.param } else { p.omega };
-        let _ = write!(s, "{x},{}", p.stable);
+        let stable = p.stability.verdict().map_or(String::new(), |v| v.to_string());
+        let _ = write!(s, "{x},{stable}");
         for o in &p.outputs {
             let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
         }

@@ -1,7 +1,6 @@
 //! The JSON documents of CONTRACT section 2, field for field and in that order.
 
-use super::{SimRecord, SolveRecord};
-use crate::results::{Curve, PointOutput};
+use crate::results::{Curve, PointOutput, SimRecord, SolveRecord};
 use serde_json::{json, Map, Value};
 
 fn point_outputs(names: &[String], outs: &[PointOutput]) -> Value {
@@ -26,7 +25,7 @@ pub fn solve_json(r: &SolveRecord) -> Value {
     json!({
         "model": r.model, "omega": r.omega, "harmonics": r.harmonics,
         "converged": r.converged, "iterations": r.iterations,
-        "residual_norm": r.residual_norm, "stable": r.stable,
+        "residual_norm": r.residual_norm, "stable": r.stability.verdict(),
         "outputs": Value::Object(outs),
     })
 }
@@ -41,12 +40,12 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 /// parameter's value (`omega` stays the fixed frequency); jumps' `omega` and
 /// segments' `from_omega`/`to_omega` are then parameter values.
 pub fn sweep_json(c: &Curve) -> Value {
-    let by_param = c.parameter != "omega";
+    let by_param = !c.parameter.is_omega();
     let points: Vec<Value> = c
         .points
         .iter()
         .map(|p| {
-            let mut v = json!({ "omega": p.omega, "stable": p.stable,
+            let mut v = json!({ "omega": p.omega, "stable": p.stability.verdict(),
                     "outputs": point_outputs(&c.output_names, &p.outputs) });
             if by_param {
                 v["param"] = json!(p.param);
@@ -73,7 +72,7 @@ pub fn sweep_json(c: &Curve) -> Value {
         .jumps
         .iter()
         .map(|j| {
-            json!({ "direction": j.direction, "omega": j.omega, "output": j.output,
+            json!({ "direction": j.direction, "omega": j.at, "output": j.output,
                     "from": j.from, "to": j.to })
         })
         .collect();
@@ -81,14 +80,15 @@ pub fn sweep_json(c: &Curve) -> Value {
         .segments
         .iter()
         .map(|s| {
-            json!({ "from_omega": s.from_omega, "to_omega": s.to_omega,
+            json!({ "from_omega": s.from, "to_omega": s.to,
                     "ended": s.ended.to_string() })
         })
         .collect();
     let mut v = json!({
         "model": c.model, "harmonics": c.harmonics, "points": points,
         "folds": folds, "jumps": jumps, "segments": segments,
-        "parameter": c.parameter, "stats": c.stats, "bifurcations": c.bifurcations,
+        "parameter": c.parameter.name(), "stats": c.stats,
+        "bifurcations": c.all_bifurcations(),
         "stability_checked": c.stability_checked,
     });
     if let Some(conv) = &c.convergence {

@@ -48,55 +48,6 @@ impl FreqUnit {
     }
 }
 
-/// The outcome of one `solve`: what the solve JSON of CONTRACT section 2 reports.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolveRecord {
-    /// Model name as registered.
-    pub model: String,
-    /// Forcing frequency, rad/s.
-    pub omega: f64,
-    /// Number of harmonics N.
-    pub harmonics: usize,
-    /// Whether Newton met its tolerance.
-    pub converged: bool,
-    /// Newton iterations taken.
-    pub iterations: usize,
-    /// Residual norm of the returned coefficients.
-    pub residual_norm: f64,
-    /// Stability verdict (`None` when it could not be computed).
-    pub stable: Option<bool>,
-    /// Per output, in model output order.
-    pub outputs: Vec<crate::results::OutputSummary>,
-}
-
-/// Steady statistics of one output of a time integration.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SimOutput {
-    /// Output name.
-    pub name: String,
-    /// Largest |x| over the last 10 forcing periods.
-    pub max_abs: f64,
-    /// Mean over the last 10 forcing periods.
-    pub mean: f64,
-}
-
-/// The outcome of one `simulate`: what the simulate JSON of CONTRACT section 2 reports.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SimRecord {
-    /// Model name as registered.
-    pub model: String,
-    /// Forcing frequency, rad/s.
-    pub omega: f64,
-    /// Time step, s.
-    pub dt: f64,
-    /// Forcing periods integrated.
-    pub periods: usize,
-    /// `"gl"` or `"bdf2"`.
-    pub scheme: String,
-    /// Per output, in model output order.
-    pub outputs: Vec<SimOutput>,
-}
-
 /// Write `text` to `path`, creating parent directories; errors name the path.
 pub fn write_file(path: &Path, text: &str) -> Result<(), Error> {
     if let Some(dir) = path.parent() {

@@ -111,8 +111,8 @@ enum XAxis<'a> {
 
 impl<'a> XAxis<'a> {
     fn of(fig: &'a Figure) -> Self {
-        match fig.series.iter().find(|s| s.curve.parameter != "omega") {
-            Some(s) => XAxis::Param(&s.curve.parameter),
+        match fig.series.iter().find(|s| !s.curve.parameter.is_omega()) {
+            Some(s) => XAxis::Param(s.curve.parameter.name()),
             None => XAxis::Freq(fig.unit),
         }
     }
@@ -145,15 +145,15 @@ fn runs(curve: &Curve, idx: usize, axis: XAxis) -> Vec<(bool, Vec<(f64, f64)>)> 
             continue;
         }
         match prev {
-            Some((seg, st, _)) if seg == p.segment && st == p.stable => {
+            Some((seg, st, _)) if seg == p.segment && st == drawn_stable(p) => {
                 if let Some(last) = out.last_mut() {
                     last.1.push(xy);
                 }
             }
-            Some((seg, _, pxy)) if seg == p.segment => out.push((p.stable, vec![pxy, xy])),
-            _ => out.push((p.stable, vec![xy])),
+            Some((seg, _, pxy)) if seg == p.segment => out.push((drawn_stable(p), vec![pxy, xy])),
+            _ => out.push((drawn_stable(p), vec![xy])),
         }
-        prev = Some((p.segment, p.stable, xy));
+        prev = Some((p.segment, drawn_stable(p), xy));
     }
     out
 }
@@ -276,7 +276,7 @@ fn draw_panel(
         }
         for j in s.curve.jumps.iter().filter(|j| j.output == panel.output) {
             // A jump's `omega` is the continuation parameter's value.
-            let x = axis.x(j.omega, j.omega);
+            let x = axis.x(j.at, j.at);
             chart
                 .draw_series(std::iter::once(TriangleMarker::new((x, j.to), 5, color.filled())))
                 .map_err(plot_err)?;
@@ -343,4 +343,10 @@ fn draw_panel(
         .draw()
         .map_err(plot_err)?;
     Ok(())
+}
+
+/// Drawn as a stable (solid) line unless known unstable: a curve traced without
+/// stability is drawn solid.
+fn drawn_stable(p: &crate::results::CurvePoint) -> bool {
+    !p.stability.is_unstable()
 }

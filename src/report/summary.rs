@@ -21,10 +21,10 @@ pub struct CurveFacts {
 /// when `None`); `None` when the output is unknown or no point lies in the band.
 ///
 /// ```
-/// use ihbm::results::{Curve, CurvePoint, CurveStats, PointOutput};
-/// let pt = |w: f64, a: f64| CurvePoint { omega: w, param: w, coeffs: vec![], stable: true,
+/// use ihbm::results::{Curve, CurvePoint, CurveStats, Parameter, PointOutput, Stability};
+/// let pt = |w: f64, a: f64| CurvePoint { omega: w, param: w, coeffs: vec![], stability: Stability::Stable,
 ///     outputs: vec![PointOutput { max_abs: a, mean: 0.0, amp1: a }], segment: 0 };
-/// let curve = Curve { model: "m".into(), harmonics: 1, parameter: "omega".into(),
+/// let curve = Curve { model: "m".into(), harmonics: 1, parameter: Parameter::Omega,
 ///     output_names: vec!["x".into()], points: vec![pt(1.0, 1.0), pt(2.0, 3.0), pt(9.0, 5.0)],
 ///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
 ///     bifurcations: vec![], convergence: None };
@@ -45,7 +45,7 @@ pub fn curve_facts(curve: &Curve, output: &str, band: Option<(f64, f64)>) -> Opt
     let mut unstable = 0;
     for (i, p) in curve.points.iter().enumerate().filter(|(_, p)| in_band(p.omega)) {
         let Some(o) = p.outputs.get(idx) else { continue };
-        if !p.stable {
+        if p.stability.is_unstable() {
             unstable += 1;
         }
         if o.max_abs.is_finite() && best.is_none_or(|(a, _)| o.max_abs > a) {

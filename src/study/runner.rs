@@ -6,10 +6,11 @@ use super::spec::{apply, Study};
 use super::summary::{self, FigureResult};
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
-use crate::engine::{SimSettings, SolveSettings, SweepSettings};
+use crate::engine::{SimSettings, SweepSettings};
 use crate::error::{Error, Result};
-use crate::report::{self, Figure, FreqUnit, Panel, Series, SimRecord, SolveRecord, TimeMarker};
+use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
 use crate::results::Curve;
+use crate::timedomain::CompareRow;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -51,20 +52,26 @@ struct FigurePlan {
     curves: Vec<CurvePlan>,
     td_model: Box<dyn AnyModel>,
     td: Vec<TdPlan>,
-    td_omegas: Vec<f64>,
 }
 
+/// One parallel job: a curve, or a harmonic-balance/time-integration comparison.
+#[derive(Clone, Copy)]
 enum Job {
     Curve(usize, usize),
-    Sim(usize, usize),
-    Solve(usize, usize),
+    Compare(usize, usize),
 }
 
 enum Done {
     // Boxed: a curve's header outweighs the other results several times.
     Curve(Result<Box<Curve>>),
-    Sim(Result<SimRecord>),
-    Solve(Result<SolveRecord>),
+    Compare(CompareRow),
+}
+
+/// What the jobs of one figure produced.
+struct Finished {
+    curves: Vec<Option<Curve>>,
+    rows: Vec<Option<CompareRow>>,
+    seconds: f64,
 }
 
 fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
@@ -117,12 +124,10 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
             }
         }
         let mut td = Vec::new();
-        let mut td_omegas = Vec::new();
         if let Some(t) = &fig.timedomain {
             for &w in &t.omegas {
-                td_omegas.push(w);
                 for &scheme in &t.schemes {
-                    let periods = t.periods.unwrap_or(100);
+                    let periods = t.periods.unwrap_or(SimSettings::default().periods);
                     let dt = t.steps_per_period.map(|s| std::f64::consts::TAU / (w * s));
                     td.push(TdPlan { omega: w, sim: SimSettings { dt, periods, scheme } });
                 }
@@ -142,7 +147,6 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
             curves,
             td_model: model,
             td,
-            td_omegas,
         });
     }
     Ok(plans)
@@ -156,31 +160,40 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
     let plans = plan(study, reg)?;
     std::fs::create_dir_all(dir)
         .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
+    let mut out = StudyOutcome::default();
+    let finished = run_jobs(&plans, &mut out.failures);
+    let mut results = Vec::new();
+    for (f, (p, done)) in plans.iter().zip(&finished).enumerate() {
+        results.push(write_figure(study, f, p, done, dir, &mut out));
+    }
+    out.seconds = start.elapsed().as_secs_f64();
+    let md = summary::markdown(study, &results, &out);
+    write(dir, "summary.md".into(), &md, &mut out);
+    Ok(out)
+}
+
+/// Every curve and comparison of every figure, in parallel; failures named by part.
+fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
     let mut jobs = Vec::new();
     for (f, p) in plans.iter().enumerate() {
         jobs.extend((0..p.curves.len()).map(|k| Job::Curve(f, k)));
-        jobs.extend((0..p.td.len()).map(|k| Job::Sim(f, k)));
-        jobs.extend((0..p.td_omegas.len()).map(|k| Job::Solve(f, k)));
+        jobs.extend((0..p.td.len()).map(|k| Job::Compare(f, k)));
     }
     let pb = progress::bar(jobs.len() as u64, "curves and time-domain points");
     let done: Vec<(Done, f64)> = jobs
         .par_iter()
-        .map(|job| {
+        .map(|&job| {
             let t = Instant::now();
-            let r = match *job {
+            let r = match job {
                 Job::Curve(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    Done::Curve(c.model.sweep(p.range.0, p.range.1, &c.sweep).map(Box::new))
+                    let mut watch = progress::CurveProgress::new(pb.clone(), c.model.name());
+                    let (lo, hi) = p.range;
+                    Done::Curve(c.model.sweep(lo, hi, &c.sweep, &mut watch).map(Box::new))
                 }
-                Job::Sim(f, k) => {
-                    let p = &plans[f];
-                    Done::Sim(p.td_model.simulate(p.td[k].omega, &p.td[k].sim))
-                }
-                Job::Solve(f, k) => {
-                    let p = &plans[f];
-                    Done::Solve(
-                        p.td_model.solve(p.td_omegas[k], &SolveSettings { harmonics: p.harmonics }),
-                    )
+                Job::Compare(f, k) => {
+                    let (p, td) = (&plans[f], &plans[f].td[k]);
+                    Done::Compare(p.td_model.compare(td.omega, &td.sim, p.harmonics))
                 }
             };
             pb.inc(1);
@@ -188,174 +201,155 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
         })
         .collect();
     pb.finish_and_clear();
-
-    let mut out = StudyOutcome::default();
-    let mut curves: Vec<Vec<Option<Curve>>> =
-        plans.iter().map(|p| p.curves.iter().map(|_| None).collect()).collect();
-    let mut sims: Vec<Vec<Option<SimRecord>>> =
-        plans.iter().map(|p| p.td.iter().map(|_| None).collect()).collect();
-    let mut solves: Vec<Vec<Option<SolveRecord>>> =
-        plans.iter().map(|p| p.td_omegas.iter().map(|_| None).collect()).collect();
-    let mut secs = vec![0.0; plans.len()];
-    for (job, (r, t)) in jobs.iter().zip(done) {
+    let mut finished: Vec<Finished> = plans
+        .iter()
+        .map(|p| Finished {
+            curves: p.curves.iter().map(|_| None).collect(),
+            rows: p.td.iter().map(|_| None).collect(),
+            seconds: 0.0,
+        })
+        .collect();
+    for (job, (r, t)) in jobs.into_iter().zip(done) {
         match (job, r) {
-            (&Job::Curve(f, k), Done::Curve(r)) => {
-                secs[f] += t;
+            (Job::Curve(f, k), Done::Curve(r)) => {
+                finished[f].seconds += t;
                 match r {
-                    Ok(c) => curves[f][k] = Some(*c),
-                    Err(e) => out
-                        .failures
-                        .push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label)),
+                    Ok(c) => finished[f].curves[k] = Some(*c),
+                    Err(e) => {
+                        failures.push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label))
+                    }
                 }
             }
-            (&Job::Sim(f, k), Done::Sim(r)) => {
-                secs[f] += t;
-                let p = &plans[f].td[k];
-                match r {
-                    Ok(s) => sims[f][k] = Some(s),
-                    Err(e) => out.failures.push(format!(
-                        "{}, time integration ({}) at Ω = {}: {e}",
+            (Job::Compare(f, k), Done::Compare(row)) => {
+                finished[f].seconds += t;
+                if let Some(why) = &row.failure {
+                    let td = &plans[f].td[k];
+                    failures.push(format!(
+                        "{}, time-domain check ({}) at Ω = {}: {why}",
                         plans[f].id,
-                        p.sim.scheme.as_str(),
-                        p.omega
-                    )),
+                        td.sim.scheme.name(),
+                        td.omega
+                    ));
                 }
-            }
-            (&Job::Solve(f, k), Done::Solve(r)) => {
-                secs[f] += t;
-                match r {
-                    Ok(s) if s.converged => solves[f][k] = Some(s),
-                    Ok(s) => out.failures.push(format!(
-                        "{}, IHBM solve at Ω = {}: Newton did not converge (residual {:.3e})",
-                        plans[f].id, s.omega, s.residual_norm
-                    )),
-                    Err(e) => out.failures.push(format!(
-                        "{}, IHBM solve at Ω = {}: {e}",
-                        plans[f].id, plans[f].td_omegas[k]
-                    )),
-                }
+                finished[f].rows[k] = Some(row);
             }
             _ => {}
         }
     }
+    finished
+}
 
-    let mut results = Vec::new();
-    for (f, p) in plans.iter().enumerate() {
-        let write = |name: String, text: &str, out: &mut StudyOutcome| {
-            let path = dir.join(name);
-            match report::write_file(&path, text) {
-                Ok(()) => out.files.push(path),
-                Err(e) => out.failures.push(e.to_string()),
-            }
-        };
-        let mut members = Vec::new();
-        for (c, plan) in curves[f].iter().zip(&p.curves) {
-            if let Some(c) = c {
-                write(format!("{}.csv", plan.stem), &report::curve_csv(c), &mut out);
-                let json = serde_json::to_string_pretty(&report::sweep_json(c)).unwrap_or_default();
-                write(format!("{}.json", plan.stem), &json, &mut out);
-                members.push(Member { label: plan.label.clone(), value: plan.value, curve: c });
-            }
-        }
-        // Time-domain rows: each simulation next to the IHBM solve at its frequency.
-        let mut td_rows = Vec::new();
-        for (s, tp) in sims[f].iter().zip(&p.td) {
-            let (Some(s), Some(sol)) = (
-                s,
-                p.td_omegas.iter().position(|&w| w == tp.omega).and_then(|i| solves[f][i].as_ref()),
-            ) else {
-                continue;
-            };
-            for o in &s.outputs {
-                if let Some(h) = sol.outputs.iter().find(|x| x.name == o.name) {
-                    td_rows.push(TdRow {
-                        omega: tp.omega,
-                        scheme: s.scheme.clone(),
-                        output: o.name.clone(),
-                        ihbm: h.max_abs,
-                        sim: o.max_abs,
-                    });
-                }
-            }
-        }
-        if !p.td.is_empty() {
-            let mut csv = String::from("omega,scheme,output,ihbm_max_abs,sim_max_abs,rel_diff\n");
-            for r in &td_rows {
-                csv.push_str(&format!(
-                    "{},{},{},{},{},{}\n",
-                    r.omega,
-                    r.scheme,
-                    r.output,
-                    r.ihbm,
-                    r.sim,
-                    r.rel_diff()
-                ));
-            }
-            write(format!("{}_timedomain.csv", p.id), &csv, &mut out);
-        }
-        let markers: Vec<TimeMarker> = td_rows
-            .iter()
-            .map(|r| TimeMarker {
-                label: format!("time integration ({})", r.scheme.to_uppercase()),
-                omega: r.omega,
-                output: r.output.clone(),
-                value: r.sim,
-            })
-            .collect();
-        let fig = Figure {
-            title: p.title.clone(),
-            unit: p.unit,
-            panels: p
-                .outputs
-                .iter()
-                .map(|o| Panel {
-                    output: o.clone(),
-                    label: study.labels.get(o).cloned().unwrap_or_else(|| format!("max |{o}|")),
-                })
-                .collect(),
-            series: members
-                .iter()
-                .map(|m| Series { label: m.label.clone(), curve: m.curve })
-                .collect(),
-            markers,
-        };
-        if members.is_empty() && td_rows.is_empty() {
-            out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
-        } else {
-            match report::figure_svg(&fig) {
-                Ok(svg) => write(format!("{}.svg", p.id), &svg, &mut out),
-                Err(e) => out.failures.push(format!("{}: {e}", p.id)),
-            }
-        }
-        out.figure_seconds.push((p.id.clone(), secs[f]));
-        let spec = &study.figures[f];
-        results.push(FigureResult {
-            spec,
-            title: p.title.clone(),
-            outputs: p.outputs.clone(),
-            harmonics: p.harmonics,
-            range: p.range,
-            members: members
-                .iter()
-                .map(|m| Member { label: m.label.clone(), value: m.value, curve: m.curve })
-                .collect(),
-            missing: p
-                .curves
-                .iter()
-                .zip(&curves[f])
-                .filter(|(_, c)| c.is_none())
-                .map(|(pl, _)| pl.label.clone())
-                .collect(),
-            td_rows,
-            seconds: secs[f],
-        });
-    }
-    out.seconds = start.elapsed().as_secs_f64();
-    let md = summary::markdown(study, &results, &out);
-    let path = dir.join("summary.md");
-    match report::write_file(&path, &md) {
+/// Write `text` to `dir/name`, recording the file or the failure.
+fn write(dir: &Path, name: String, text: &str, out: &mut StudyOutcome) {
+    let path = dir.join(name);
+    match report::write_file(&path, text) {
         Ok(()) => out.files.push(path),
         Err(e) => out.failures.push(e.to_string()),
     }
-    Ok(out)
+}
+
+/// The comparisons of one figure as rows per output (only where both methods gave a
+/// value).
+fn td_rows(p: &FigurePlan, done: &Finished) -> Vec<TdRow> {
+    let mut rows = Vec::new();
+    for (row, tp) in done.rows.iter().zip(&p.td) {
+        let Some(row) = row else { continue };
+        for o in row.outputs.iter().filter(|o| o.hb_max_abs.is_finite() && o.td_max_abs.is_finite())
+        {
+            rows.push(TdRow {
+                omega: tp.omega,
+                scheme: tp.sim.scheme.name().to_string(),
+                output: o.name.clone(),
+                ihbm: o.hb_max_abs,
+                sim: o.td_max_abs,
+            });
+        }
+    }
+    rows
+}
+
+/// The files of figure `f` (curves' CSV and JSON, the time-domain CSV, the SVG) and
+/// its result for the summary.
+fn write_figure<'a>(
+    study: &'a Study,
+    f: usize,
+    p: &FigurePlan,
+    done: &'a Finished,
+    dir: &Path,
+    out: &mut StudyOutcome,
+) -> FigureResult<'a> {
+    let mut members = Vec::new();
+    for (c, plan) in done.curves.iter().zip(&p.curves) {
+        if let Some(c) = c {
+            write(dir, format!("{}.csv", plan.stem), &report::curve_csv(c), out);
+            let json = serde_json::to_string_pretty(&report::sweep_json(c)).unwrap_or_default();
+            write(dir, format!("{}.json", plan.stem), &json, out);
+            members.push(Member { label: plan.label.clone(), value: plan.value, curve: c });
+        }
+    }
+    let td_rows = td_rows(p, done);
+    if !p.td.is_empty() {
+        let mut csv = String::from("omega,scheme,output,ihbm_max_abs,sim_max_abs,rel_diff\n");
+        for r in &td_rows {
+            csv.push_str(&format!(
+                "{},{},{},{},{},{}\n",
+                r.omega,
+                r.scheme,
+                r.output,
+                r.ihbm,
+                r.sim,
+                r.rel_diff()
+            ));
+        }
+        write(dir, format!("{}_timedomain.csv", p.id), &csv, out);
+    }
+    let markers: Vec<TimeMarker> = td_rows
+        .iter()
+        .map(|r| TimeMarker {
+            label: format!("time integration ({})", r.scheme.to_uppercase()),
+            omega: r.omega,
+            output: r.output.clone(),
+            value: r.sim,
+        })
+        .collect();
+    let fig = Figure {
+        title: p.title.clone(),
+        unit: p.unit,
+        panels: p
+            .outputs
+            .iter()
+            .map(|o| Panel {
+                output: o.clone(),
+                label: study.labels.get(o).cloned().unwrap_or_else(|| format!("max |{o}|")),
+            })
+            .collect(),
+        series: members.iter().map(|m| Series { label: m.label.clone(), curve: m.curve }).collect(),
+        markers,
+    };
+    if members.is_empty() && td_rows.is_empty() {
+        out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
+    } else {
+        match report::figure_svg(&fig) {
+            Ok(svg) => write(dir, format!("{}.svg", p.id), &svg, out),
+            Err(e) => out.failures.push(format!("{}: {e}", p.id)),
+        }
+    }
+    out.figure_seconds.push((p.id.clone(), done.seconds));
+    FigureResult {
+        spec: &study.figures[f],
+        title: p.title.clone(),
+        outputs: p.outputs.clone(),
+        harmonics: p.harmonics,
+        range: p.range,
+        members,
+        missing: p
+            .curves
+            .iter()
+            .zip(&done.curves)
+            .filter(|(_, c)| c.is_none())
+            .map(|(pl, _)| pl.label.clone())
+            .collect(),
+        td_rows,
+        seconds: done.seconds,
+    }
 }

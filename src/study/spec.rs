@@ -36,9 +36,10 @@
 //! Time-domain points use the figure's parameters without the varied one.
 
 use crate::engine::registry::{AnyModel, Registry};
-use crate::engine::{SchemeName, SweepSettings};
+use crate::engine::SweepSettings;
 use crate::error::{Error, Result};
 use crate::report::FreqUnit;
+use crate::timedomain::Scheme;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use toml::Spanned;
@@ -93,7 +94,7 @@ pub struct Study {
 }
 
 fn default_harmonics() -> usize {
-    5
+    crate::fourier::DEFAULT_HARMONICS
 }
 
 /// One figure: a family of curves varying one parameter (or N), with its claims.
@@ -139,15 +140,16 @@ pub struct TimeDomainSpec {
     pub omegas: Vec<f64>,
     /// Schemes (default: both).
     #[serde(default = "default_schemes")]
-    pub schemes: Vec<SchemeName>,
-    /// Forcing periods per run (default 100; at least `timedomain::MIN_PERIODS`).
+    pub schemes: Vec<Scheme>,
+    /// Forcing periods per run (default: `engine::SimSettings::default()`'s; at least
+    /// `timedomain::MIN_PERIODS`).
     pub periods: Option<usize>,
     /// Steps per forcing period (default 200: the paper's step π/(100 Ω)).
     pub steps_per_period: Option<f64>,
 }
 
-fn default_schemes() -> Vec<SchemeName> {
-    vec![SchemeName::Gl, SchemeName::Bdf2]
+fn default_schemes() -> Vec<Scheme> {
+    vec![Scheme::Gl, Scheme::Bdf2]
 }
 
 /// What a check measures.

@@ -70,40 +70,43 @@ pub fn compare<M: Model>(
             expected: "a finite frequency > 0 in rad/s".into(),
         });
     }
+    Ok(omegas.iter().map(|&omega| compare_at(model, omega, sim, hb)).collect())
+}
+
+/// The comparison at one frequency (`omega` checked by the caller, or reported as
+/// the methods' failure in the row).
+pub fn compare_at<M: Model>(
+    model: &M,
+    omega: f64,
+    sim: &SimOptions,
+    hb: &SolveOptions,
+) -> CompareRow {
     let names = model.outputs();
-    let mut rows = Vec::with_capacity(omegas.len());
-    for &omega in omegas {
-        let mut failure = Vec::new();
-        let hb_max: Vec<f64> = match solve(model, omega, hb, None) {
-            Ok(sol) => sol.outputs(model).iter().map(|o| o.max_abs).collect(),
-            Err(e) => {
-                failure.push(format!("harmonic balance: {e}"));
-                vec![f64::NAN; names.len()]
-            }
-        };
-        let (td_max, td_drift): (Vec<f64>, Vec<f64>) = match simulate(model, omega, sim) {
-            Ok(s) => s.outputs.iter().map(|o| (o.max_abs, o.drift)).unzip(),
-            Err(e) => {
-                failure.push(format!("time integration: {e}"));
-                (vec![f64::NAN; names.len()], vec![f64::NAN; names.len()])
-            }
-        };
-        let outputs = names
-            .iter()
-            .enumerate()
-            .map(|(i, o)| CompareOutput {
-                name: o.name.to_string(),
-                hb_max_abs: hb_max[i],
-                td_max_abs: td_max[i],
-                rel_diff: (td_max[i] - hb_max[i]).abs() / hb_max[i].abs(),
-                td_drift: td_drift[i],
-            })
-            .collect();
-        rows.push(CompareRow {
-            omega,
-            outputs,
-            failure: (!failure.is_empty()).then(|| failure.join("; ")),
-        });
-    }
-    Ok(rows)
+    let mut failure = Vec::new();
+    let hb_max: Vec<f64> = match solve(model, omega, hb, None) {
+        Ok(sol) => sol.outputs(model).iter().map(|o| o.max_abs).collect(),
+        Err(e) => {
+            failure.push(format!("harmonic balance: {e}"));
+            vec![f64::NAN; names.len()]
+        }
+    };
+    let (td_max, td_drift): (Vec<f64>, Vec<f64>) = match simulate(model, omega, sim) {
+        Ok(s) => s.outputs.iter().map(|o| (o.max_abs, o.drift)).unzip(),
+        Err(e) => {
+            failure.push(format!("time integration: {e}"));
+            (vec![f64::NAN; names.len()], vec![f64::NAN; names.len()])
+        }
+    };
+    let outputs = names
+        .iter()
+        .enumerate()
+        .map(|(i, o)| CompareOutput {
+            name: o.name.to_string(),
+            hb_max_abs: hb_max[i],
+            td_max_abs: td_max[i],
+            rel_diff: (td_max[i] - hb_max[i]).abs() / hb_max[i].abs(),
+            td_drift: td_drift[i],
+        })
+        .collect();
+    CompareRow { omega, outputs, failure: (!failure.is_empty()).then(|| failure.join("; ")) }
 }

@@ -60,7 +60,7 @@ pub mod newmark;
 pub mod steady;
 pub mod weights;
 
-pub use compare::{compare, CompareOutput, CompareRow};
+pub use compare::{compare, compare_at, CompareOutput, CompareRow};
 pub use memory::{FastHistory, History, Memory, NaiveHistory};
 pub use newmark::{Stepper, StepperOptions};
 pub use steady::SteadyOutput;

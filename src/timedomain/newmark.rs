@@ -29,7 +29,7 @@
 use super::memory::{History, Memory};
 use super::weights::Scheme;
 use crate::error::Error;
-use crate::model::{Model, Order};
+use crate::model::{combine, Model, Order};
 use num_dual::Dual64;
 
 /// Newmark average acceleration parameters.
@@ -250,7 +250,7 @@ impl<'m, M: Model> Stepper<'m, M> {
         }
         let signals = self.model.signals();
         for (i, s) in signals.iter().enumerate() {
-            let comb = |y: &[f64]| s.terms.iter().map(|&(d, c)| c * y[d]).sum::<f64>();
+            let comb = |y: &[f64]| combine(&s.terms, y);
             let (base, slope) = match self.kinds[i] {
                 Kind::Displacement => (comb(&self.x_new), BETA * dt2),
                 Kind::Velocity => (comb(&self.v_new), GAMMA * dt),
@@ -365,7 +365,7 @@ impl<'m, M: Model> Stepper<'m, M> {
         if !initial {
             for (kind, s) in self.kinds.iter().zip(signals) {
                 if let Kind::Fractional { history, .. } = *kind {
-                    let e: f64 = s.terms.iter().map(|&(d, c)| c * self.x[d]).sum();
+                    let e = combine(&s.terms, &self.x);
                     self.histories[history].push(e)?;
                 }
             }
@@ -401,7 +401,7 @@ impl<'m, M: Model> Stepper<'m, M> {
 
     /// The value of output `index` (a linear combination of displacements).
     pub fn output(&self, index: usize) -> f64 {
-        self.model.outputs()[index].terms.iter().map(|&(d, c)| c * self.x[d]).sum()
+        combine(&self.model.outputs()[index].terms, &self.x)
     }
 
     /// Newton iterations: total over all steps, and the most in one step.

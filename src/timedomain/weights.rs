@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 /// The convolution-quadrature rule for fractional derivatives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Scheme {
     /// Grünwald–Letnikov weights, coefficients of `(1 - ζ)^q`: first order (the paper's).
     Gl,

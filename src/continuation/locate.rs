@@ -1,0 +1,175 @@
+//! Locating events inside an accepted step: folds (the tangent's parameter component
+//! changes sign), changes of stability (the largest real part of the exponents
+//! crosses the tolerance) and the exact landing points of jumps. Each search walks
+//! along the step's border direction, correcting back onto the curve at every trial.
+
+use super::events::Event;
+use super::jumps::Landing;
+use super::stepper::{unit, Continuation};
+use super::tracer::dot;
+use crate::model::Model;
+use crate::results::{Fold, Jump};
+use crate::stability::{Hill, StabilityOptions};
+
+/// A sign-change bracket `[a, b]` of a function along the step, narrowed by regula
+/// falsi with the Illinois modification (halve the stale end's value when the same
+/// end moves twice), which keeps superlinear convergence without stalling.
+struct Illinois {
+    a: f64,
+    fa: f64,
+    b: f64,
+    fb: f64,
+    side: i8,
+}
+
+impl Illinois {
+    /// The bracket `[0, h]` with function values `fa` at 0 and `fb` at `h`.
+    fn new(h: f64, fa: f64, fb: f64) -> Self {
+        Illinois { a: 0.0, fa, b: h, fb, side: 0 }
+    }
+
+    /// The next trial point (the secant root, or the midpoint if that leaves the bracket).
+    fn next(&self) -> f64 {
+        let (a, fa, b, fb) = (self.a, self.fa, self.b, self.fb);
+        let s = if fb != fa { (a * fb - b * fa) / (fb - fa) } else { 0.5 * (a + b) };
+        if s > a && s < b {
+            s
+        } else {
+            0.5 * (a + b)
+        }
+    }
+
+    /// Replace the end with the same sign as `f` by `s`.
+    fn update(&mut self, s: f64, f: f64) {
+        if f * self.fa > 0.0 {
+            self.a = s;
+            self.fa = f;
+            if self.side == -1 {
+                self.fb *= 0.5;
+            }
+            self.side = -1;
+        } else {
+            self.b = s;
+            self.fb = f;
+            if self.side == 1 {
+                self.fa *= 0.5;
+            }
+            self.side = 1;
+        }
+    }
+
+    /// Width of the bracket.
+    fn width(&self) -> f64 {
+        self.b - self.a
+    }
+}
+
+/// Where a change of stability was found, and whether the search converged.
+pub(super) struct StabilityChange {
+    pub y: Vec<f64>,
+    pub located: bool,
+}
+
+impl<M: Model> Continuation<'_, M> {
+    /// Locate the fold inside the step from `nodes[last]` (direction `dirv`, length
+    /// `h`) by regula falsi (Illinois) on the λ-component of the tangent, and report it.
+    pub(super) fn locate_fold(&mut self, last: usize, dirv: &[f64], h: f64, f_end: f64) {
+        let n = self.tr.n;
+        let y_i = self.nodes[last].y.clone();
+        let base = dot(dirv, &y_i);
+        let mut bracket = Illinois::new(h, self.nodes[last].t[n], f_end);
+        let mut y = vec![0.0; n + 1];
+        let mut t = vec![0.0; n + 1];
+        let mut best: Option<Vec<f64>> = None;
+        let mut located = false;
+        for _ in 0..100 {
+            let s = bracket.next();
+            for i in 0..=n {
+                y[i] = y_i[i] + s * dirv[i];
+            }
+            if self.tr.locate_exact(&mut y, dirv, base + s).is_err() {
+                break;
+            }
+            self.tr.tangent(&mut t);
+            let f = t[n];
+            best = Some(y.clone());
+            if f.abs() < 1e-13 || bracket.width() < 1e-14 * h {
+                located = true;
+                break;
+            }
+            bracket.update(s, f);
+        }
+        // Not located: the fold is still there (the tangent turned between two
+        // converged points); report the last converged trial, or the point before it.
+        let y = best.unwrap_or(y_i);
+        let (omega, param, coeffs, outputs) = self.point_at(&y);
+        self.trace.folds.push(Fold { omega, param, coeffs, outputs, after: last, located });
+        self.queue_event(Event::Fold(self.trace.folds.len() - 1));
+    }
+
+    /// Locate where `growth` (largest Re λ minus the tolerance) changes sign inside
+    /// the step into `nodes[i + 1]`, with the analysis `hill` (not the tracking one).
+    pub(super) fn locate_stability_change(
+        &mut self,
+        hill: &mut Hill,
+        so: &StabilityOptions,
+        i: usize,
+        g0: f64,
+        g1: f64,
+    ) -> StabilityChange {
+        let n = self.tr.n;
+        let y_i = self.nodes[i].y.clone();
+        let dirv = self.nodes[i + 1].border.clone();
+        let h = self.nodes[i + 1].h;
+        let base = dot(&dirv, &y_i);
+        let mut bracket = Illinois::new(h, g0, g1);
+        let mut y = vec![0.0; n + 1];
+        let mut best = self.nodes[if g0.abs() < g1.abs() { i } else { i + 1 }].y.clone();
+        let mut coeffs = vec![0.0; n];
+        for _ in 0..40 {
+            let s = bracket.next();
+            for k in 0..=n {
+                y[k] = y_i[k] + s * dirv[k];
+            }
+            if self.tr.locate(&mut y, &dirv, base + s).is_err() {
+                break;
+            }
+            self.tr.set_point(&y);
+            self.tr.coeffs(&y, &mut coeffs);
+            let omega = self.tr.omega(&y);
+            let Ok(fl) = hill.analyse(&mut self.tr.bal, &coeffs, omega, so) else {
+                break;
+            };
+            let f = fl.max_real - so.tol * omega;
+            best.copy_from_slice(&y);
+            if f == 0.0 || bracket.width() < 1e-10 * h {
+                return StabilityChange { y: best, located: true };
+            }
+            bracket.update(s, f);
+        }
+        StabilityChange { y: best, located: false }
+    }
+
+    /// Replace the polyline's landing amplitudes by the solution at the jump's
+    /// parameter, corrected from the interpolated coefficients (kept as they are if
+    /// the corrector fails there).
+    pub(super) fn land_exactly(&mut self, jumps: &mut [Jump], landings: &[Landing]) {
+        let n = self.tr.n;
+        let nout = self.trace.output_names.len();
+        let e_n = unit(n);
+        for l in landings {
+            let Some(first) = jumps.get(l.jump) else { continue };
+            let (ya, yb) = (&self.nodes[l.a].y, &self.nodes[l.b].y);
+            let mut y: Vec<f64> = ya.iter().zip(yb).map(|(p, q)| p + l.w * (q - p)).collect();
+            let target = first.at / self.tr.sl;
+            y[n] = target;
+            if self.tr.locate(&mut y, &e_n, target).is_err() {
+                continue;
+            }
+            let (_, _, _, outputs) = self.point_at(&y);
+            for (j, o) in jumps[l.jump..].iter_mut().take(nout).zip(&outputs) {
+                j.to = o.max_abs;
+            }
+        }
+    }
+}

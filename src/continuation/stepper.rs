@@ -1,0 +1,598 @@
+//! The continuation as a state machine a caller drives: [`Continuation::step`] does
+//! one piece of work (the first point of a segment, one accepted arc-length step, the
+//! end of the trace) and returns what happened as an [`Event`]; an [`Observer`] given
+//! to [`Continuation::run`] sees every event with everything traced so far and may
+//! stop the run. [`sweep`](super::sweep) is `run` with an observer that never stops.
+//!
+//! Stability is analysed as points are accepted (Hill's exponents tracked from point
+//! to point), so an event already carries the verdict, and a change of stability is
+//! located inside the step that crossed it before the next step is taken.
+
+use super::events::{Control, Event, Observer, Trace};
+use super::locate::StabilityChange;
+use super::tracer::{dot, Axis, Tracer};
+use super::{AmplitudeBound, Predictor, SweepOptions};
+use crate::balance::Balance;
+use crate::error::Result;
+use crate::model::Model;
+use crate::outputs::OutputEval;
+use crate::results::{
+    Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, Parameter, PointOutput, Segment,
+    SegmentEnd, Stability, Unknown,
+};
+use crate::stability::{Crossing, Hill};
+use std::collections::VecDeque;
+
+/// One accepted point of the trace, in scaled variables.
+pub(super) struct Node {
+    pub y: Vec<f64>,
+    /// Unit tangent, oriented along the direction of travel.
+    pub t: Vec<f64>,
+    /// Direction and length of the step that reached this point from the previous one
+    /// (`border · (y - y_prev) = h`), for locating events inside the step.
+    pub border: Vec<f64>,
+    pub h: f64,
+    pub segment: usize,
+    /// Largest real part of the exponents minus the tolerance (NaN: no verdict).
+    pub growth: f64,
+    /// How the leading exponent would cross (for naming a stability change).
+    pub crossing: Option<Crossing>,
+}
+
+/// Stability along the run: the tracking analysis and, created when first needed, a
+/// second one for locating stability changes (so that locating never disturbs what
+/// is being tracked).
+struct Stab {
+    opts: crate::stability::StabilityOptions,
+    hill: Hill,
+    locator: Option<Hill>,
+}
+
+enum State {
+    /// Start segment `seg` (0: from the low end up, 1: from the high end down).
+    Start(usize),
+    /// Stepping along segment `seg`, from `first` (its first node), step `h`.
+    Walk {
+        seg: usize,
+        first: usize,
+        h: f64,
+    },
+    /// The last segment has ended.
+    Ending,
+    Done,
+}
+
+/// A continuation run, driven step by step.
+///
+/// ```
+/// use ihbm::continuation::{Continuation, Event, SweepOptions};
+/// use ihbm::models::Duffing;
+///
+/// // Stop a hardening Duffing sweep at its first fold.
+/// let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+/// let opts = SweepOptions { harmonics: 1, ..Default::default() };
+/// let mut run = Continuation::omega(&model, 0.5, 2.5, &opts)?;
+/// loop {
+///     match run.step() {
+///         Event::Fold(_) | Event::Finished => break,
+///         _ => {}
+///     }
+/// }
+/// let curve = run.finish();
+/// assert_eq!(curve.folds.len(), 1);
+/// // Stopped before the range end: the segment says so.
+/// assert_eq!(curve.segments.last().unwrap().ended, ihbm::results::SegmentEnd::Stopped);
+/// # Ok::<(), ihbm::Error>(())
+/// ```
+pub struct Continuation<'m, M: Model> {
+    model: &'m M,
+    pub(super) tr: Tracer<'m, M>,
+    opts: SweepOptions,
+    lo: f64,
+    hi: f64,
+    pub(super) nodes: Vec<Node>,
+    pub(super) trace: Trace,
+    pub(super) out: OutputEval,
+    bound: Option<f64>,
+    stab: Option<Stab>,
+    state: State,
+    queue: VecDeque<Event>,
+    // step buffers
+    y: Vec<f64>,
+    t: Vec<f64>,
+    dirv: Vec<f64>,
+}
+
+impl<'m, M: Model> Continuation<'m, M> {
+    /// A frequency sweep of `model` for Ω from `from` to `to` (rad/s), checked as
+    /// [`sweep`](super::sweep) checks it. `opts.convergence` is not used here (a
+    /// convergence study is a run per harmonic count: [`sweep`](super::sweep)).
+    pub fn omega(model: &'m M, from: f64, to: f64, opts: &SweepOptions) -> Result<Self> {
+        super::check_sweep(model, from, to, opts)?;
+        Self::new(model, Axis::Omega, from, to, opts)
+    }
+
+    /// A sweep of parameter `param` from `from` to `to` at fixed frequency `omega`.
+    pub fn param(
+        model: &'m M,
+        param: &str,
+        from: f64,
+        to: f64,
+        omega: f64,
+        opts: &SweepOptions,
+    ) -> Result<Self> {
+        let index = super::check_sweep_param(model, param, from, to, omega, opts)?;
+        Self::new(model, Axis::Param { index, omega }, from, to, opts)
+    }
+
+    pub(super) fn new(
+        model: &'m M,
+        axis: Axis,
+        lo: f64,
+        hi: f64,
+        opts: &SweepOptions,
+    ) -> Result<Self> {
+        let nh = opts.harmonics;
+        let bal = Balance::new(model, nh)?;
+        let mut tr = Tracer::new(bal, axis, opts.tol, opts.max_iter);
+        let n = tr.n;
+        tr.sl = hi - lo;
+        // Reference force: the residual at zero response (the forcing).
+        let sr = tr.reference_force(lo).max(tr.reference_force(hi));
+        tr.sr = if sr > 0.0 && sr.is_finite() { sr } else { 1.0 };
+        // Reference amplitude: the linearised response over the range.
+        let mut sa = 0.0f64;
+        let mut y = vec![0.0; n + 1];
+        let e_n = unit(n);
+        for i in 0..17 {
+            let f = i as f64 / 16.0;
+            let lam = if axis == Axis::Omega { lo * (hi / lo).powf(f) } else { lo + f * (hi - lo) };
+            y.fill(0.0);
+            y[n] = lam / tr.sl;
+            if tr.newton_step(&mut y, &e_n, lam / tr.sl).is_ok() {
+                sa = sa.max(y[..n].iter().fold(0.0, |m: f64, v| m.max(v.abs())));
+            }
+        }
+        tr.sa = if sa > 0.0 && sa.is_finite() { sa } else { 1.0 };
+        let bound = match opts.amplitude_bound {
+            AmplitudeBound::Relative(f) => Some(f),
+            AmplitudeBound::Absolute(_) | AmplitudeBound::None => None,
+        };
+        let stab = match opts.stability {
+            Some(so) => Some(Stab { opts: so, hill: Hill::new(model, nh)?, locator: None }),
+            None => None,
+        };
+        let parameter = match axis {
+            Axis::Omega => Parameter::Omega,
+            Axis::Param { index, .. } => {
+                Parameter::Model { index, name: model.params_info()[index].name.to_string() }
+            }
+        };
+        Ok(Continuation {
+            model,
+            tr,
+            opts: opts.clone(),
+            lo,
+            hi,
+            nodes: Vec::new(),
+            trace: Trace {
+                harmonics: nh,
+                parameter,
+                output_names: model.outputs().iter().map(|o| o.name.to_string()).collect(),
+                points: Vec::new(),
+                folds: Vec::new(),
+                bifurcations: Vec::new(),
+                segments: Vec::new(),
+                stats: CurveStats::default(),
+            },
+            out: OutputEval::new(model, nh),
+            bound,
+            stab,
+            state: State::Start(0),
+            queue: VecDeque::new(),
+            y: vec![0.0; n + 1],
+            t: vec![0.0; n + 1],
+            dirv: vec![0.0; n + 1],
+        })
+    }
+
+    pub(super) fn queue_event(&mut self, e: Event) {
+        self.queue.push_back(e);
+    }
+
+    /// Everything traced so far.
+    pub fn trace(&self) -> &Trace {
+        &self.trace
+    }
+
+    /// Do the next piece of work and say what happened.
+    pub fn step(&mut self) -> Event {
+        loop {
+            if let Some(e) = self.queue.pop_front() {
+                return e;
+            }
+            match self.state {
+                State::Start(seg) => self.start_segment(seg),
+                State::Walk { seg, first, h } => self.walk(seg, first, h),
+                State::Ending => {
+                    self.state = State::Done;
+                    return Event::Finished;
+                }
+                State::Done => return Event::Finished,
+            }
+        }
+    }
+
+    /// Step until finished or until `observer` says stop; the curve.
+    pub fn run(mut self, observer: &mut dyn Observer) -> Curve {
+        loop {
+            let e = self.step();
+            if observer.observe(&e, &self.trace) == Control::Stop || e == Event::Finished {
+                break;
+            }
+        }
+        self.finish()
+    }
+
+    /// The curve traced so far, with its jumps. A segment still being traced ends
+    /// [`SegmentEnd::Stopped`].
+    pub fn finish(mut self) -> Curve {
+        if let State::Walk { seg, .. } = self.state {
+            self.end_segment(seg, SegmentEnd::Stopped);
+        }
+        self.queue.clear();
+        let stats = &mut self.trace.stats;
+        stats.folds = self.trace.folds.len();
+        stats.folds_unlocated = self.trace.folds.iter().filter(|f| !f.located).count();
+        stats.corrector_iterations = self.tr.iterations;
+        stats.chord_steps = self.tr.chord_steps;
+        stats.stability_full = self.stab.as_ref().map_or(0, |s| s.hill.counts().full);
+        let (mut jumps, landings) = super::jumps::find_landings(
+            &self.trace.points,
+            &self.trace.folds,
+            &self.trace.output_names,
+        );
+        self.land_exactly(&mut jumps, &landings);
+        let t = self.trace;
+        Curve {
+            model: self.model.name().to_string(),
+            harmonics: t.harmonics,
+            parameter: t.parameter,
+            output_names: t.output_names,
+            points: t.points,
+            stability_checked: self.opts.stability.is_some(),
+            folds: t.folds,
+            jumps,
+            segments: t.segments,
+            stats: t.stats,
+            bifurcations: t.bifurcations,
+            convergence: None,
+        }
+    }
+
+    fn end_segment(&mut self, seg: usize, ended: SegmentEnd) {
+        let start = if seg == 0 { self.lo } else { self.hi };
+        let mut on = self.nodes.iter().filter(|nd| nd.segment == seg);
+        let from = on.next().map_or(start, |nd| self.tr.lambda(&nd.y));
+        let to = on.next_back().map_or(from, |nd| self.tr.lambda(&nd.y));
+        let reached_hi = matches!(ended, SegmentEnd::ReachedEnd)
+            && self.nodes.last().is_some_and(|nd| {
+                nd.segment == seg && self.tr.lambda(&nd.y) >= self.hi - 1e-12 * (self.hi - self.lo)
+            });
+        self.trace.segments.push(Segment { from, to, ended });
+        self.queue.push_back(Event::SegmentEnd(self.trace.segments.len() - 1));
+        // The sweep restarts from the other end when the first segment did not get
+        // there (runaway branch, stall); nothing of the first is discarded.
+        self.state = if seg == 0 && !reached_hi { State::Start(1) } else { State::Ending };
+    }
+
+    /// Solve at `lam` from the linearised response (or the corrector for Ω).
+    fn start_point(&mut self, lam: f64) -> Result<Vec<f64>, String> {
+        let n = self.tr.n;
+        let mut y = vec![0.0; n + 1];
+        let e_n = unit(n);
+        let target = lam / self.tr.sl;
+        y[n] = target;
+        let guess = if self.tr.axis == Axis::Omega {
+            let so = crate::corrector::SolveOptions {
+                harmonics: self.opts.harmonics,
+                ..Default::default()
+            };
+            crate::corrector::solve(self.model, lam, &so, None).ok().map(|s| s.coeffs)
+        } else {
+            None
+        };
+        match guess {
+            Some(c) => {
+                for (yi, ci) in y.iter_mut().zip(&c) {
+                    *yi = ci / self.tr.sa;
+                }
+            }
+            // Linearised response: one Newton step from zero.
+            None => {
+                self.tr.newton_step(&mut y, &e_n, target)?;
+            }
+        }
+        self.tr.locate(&mut y, &e_n, target).map(|_| y)
+    }
+
+    fn start_segment(&mut self, seg: usize) {
+        let n = self.tr.n;
+        let (lam0, dir) = if seg == 0 { (self.lo, 1.0) } else { (self.hi, -1.0) };
+        let y0 = match self.start_point(lam0) {
+            Ok(y) => y,
+            Err(why) => {
+                let why = format!("no solution at the start {lam0}: {why}");
+                return self.end_segment(seg, SegmentEnd::Stalled(why));
+            }
+        };
+        let mut t0 = vec![0.0; n + 1];
+        self.tr.tangent(&mut t0);
+        if t0[n] * dir < 0.0 {
+            t0.iter_mut().for_each(|v| *v = -*v);
+        }
+        let mut border = vec![0.0; n + 1];
+        border[n] = dir;
+        self.accept(y0, t0, border, 0.0, seg);
+        if self.beyond_bound() {
+            return self.end_segment(seg, SegmentEnd::AmplitudeBound);
+        }
+        let first = self.nodes.len() - 1;
+        self.state = State::Walk { seg, first, h: self.opts.initial_step };
+    }
+
+    /// Attempts from the last node until one step is accepted or the segment ends.
+    fn walk(&mut self, seg: usize, first: usize, mut h: f64) {
+        let n = self.tr.n;
+        let (lo_s, hi_s) = (self.lo / self.tr.sl, self.hi / self.tr.sl);
+        let (min_step, max_step, max_turn) =
+            (self.opts.min_step, self.opts.max_step, self.opts.max_turn);
+        let (mut y, mut t, mut dirv) = (
+            std::mem::take(&mut self.y),
+            std::mem::take(&mut self.t),
+            std::mem::take(&mut self.dirv),
+        );
+        let last = self.nodes.len() - 1;
+        let ended = loop {
+            if self.trace.stats.steps >= self.opts.max_steps {
+                break Some(SegmentEnd::Stalled(format!(
+                    "step limit {} reached",
+                    self.opts.max_steps
+                )));
+            }
+            self.predict(first, h, &mut y, &mut dirv);
+            let target = dot(&dirv, &self.nodes[last].y) + h;
+            let it = match self.tr.correct(&mut y, &dirv, target) {
+                Ok(it) => it,
+                Err(why) => {
+                    self.trace.stats.rejected_steps += 1;
+                    h *= 0.5;
+                    if h < min_step {
+                        break Some(SegmentEnd::Stalled(why));
+                    }
+                    continue;
+                }
+            };
+            self.tr.tangent(&mut t);
+            let angle = dot(&self.nodes[last].t, &t).clamp(-1.0, 1.0).acos();
+            if angle > 2.0 * max_turn && h > 2.0 * min_step {
+                self.trace.stats.rejected_steps += 1;
+                h *= 0.5;
+                continue;
+            }
+            self.trace.stats.steps += 1;
+            // Left the range: land exactly on its end.
+            if y[n] > hi_s || y[n] < lo_s {
+                let b = if y[n] > hi_s { hi_s } else { lo_s };
+                break Some(self.land_on_end(last, b, &y, &t, &dirv, h, seg));
+            }
+            if self.nodes[last].t[n] * t[n] < 0.0 {
+                self.locate_fold(last, &dirv, h, t[n]);
+            }
+            self.accept(y.clone(), t.clone(), dirv.clone(), h, seg);
+            if self.beyond_bound() {
+                break Some(SegmentEnd::AmplitudeBound);
+            }
+            // Step control: corrector effort (Newton iterations: chord updates in
+            // between are cheap) and tangent turn.
+            let mut factor: f64 = match it {
+                0..=1 => 1.6,
+                2 => 1.25,
+                3 => 1.0,
+                _ => 0.6,
+            };
+            if angle > 0.0 {
+                factor = factor.min(max_turn / angle);
+            }
+            // Far above the reference amplitude (a branch climbing an asymptote) the
+            // natural step is relative: let the largest step grow with the response.
+            let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            h = (h * factor.clamp(0.25, 2.0)).clamp(min_step, max_step * amp);
+            break None;
+        };
+        (self.y, self.t, self.dirv) = (y, t, dirv);
+        match ended {
+            Some(e) => self.end_segment(seg, e),
+            None => self.state = State::Walk { seg, first, h },
+        }
+    }
+
+    /// The predicted point at arc length `h` from the last node, and the direction.
+    fn predict(&self, first: usize, h: f64, y: &mut [f64], dirv: &mut [f64]) {
+        let n = self.tr.n;
+        let last = self.nodes.len() - 1;
+        let nd = &self.nodes[last];
+        match self.opts.predictor {
+            Predictor::Secant if last > first => {
+                let prev = &self.nodes[last - 1];
+                for i in 0..=n {
+                    dirv[i] = nd.y[i] - prev.y[i];
+                }
+                let norm = dot(dirv, dirv).sqrt();
+                dirv.iter_mut().for_each(|v| *v /= norm);
+            }
+            _ => dirv.copy_from_slice(&nd.t),
+        }
+        for i in 0..=n {
+            y[i] = nd.y[i] + h * dirv[i];
+        }
+        // Second order: the curvature from the last two tangents, so that the first
+        // Newton step lands close enough for chord updates to finish.
+        if self.opts.predictor == Predictor::Tangent && last > first && nd.h > 0.0 {
+            let prev = &self.nodes[last - 1];
+            let f = 0.5 * h * h / nd.h;
+            for i in 0..=n {
+                y[i] += f * (nd.t[i] - prev.t[i]);
+            }
+        }
+    }
+
+    /// Land the step that left the range on its end `b` (scaled); how the segment ends.
+    #[allow(clippy::too_many_arguments)]
+    fn land_on_end(
+        &mut self,
+        last: usize,
+        b: f64,
+        y: &[f64],
+        t: &[f64],
+        dirv: &[f64],
+        h: f64,
+        seg: usize,
+    ) -> SegmentEnd {
+        let n = self.tr.n;
+        let yl = &self.nodes[last].y;
+        let f = (b - yl[n]) / (y[n] - yl[n]);
+        let mut yb: Vec<f64> = yl.iter().zip(y).map(|(a, c)| a + f * (c - a)).collect();
+        match self.tr.locate_exact(&mut yb, &unit(n), b) {
+            Ok(_) => {
+                let mut tb = vec![0.0; n + 1];
+                self.tr.tangent(&mut tb);
+                if dot(&tb, &self.nodes[last].t) < 0.0 {
+                    tb.iter_mut().for_each(|v| *v = -*v);
+                }
+                let hb = dot(dirv, &yb) - dot(dirv, &self.nodes[last].y);
+                self.accept(yb, tb, dirv.to_vec(), hb, seg);
+                SegmentEnd::ReachedEnd
+            }
+            Err(why) => {
+                self.accept(y.to_vec(), t.to_vec(), dirv.to_vec(), h, seg);
+                SegmentEnd::Stalled(format!("could not land on the range end: {why}"))
+            }
+        }
+    }
+
+    fn beyond_bound(&self) -> bool {
+        let Some(nd) = self.nodes.last() else { return false };
+        match self.opts.amplitude_bound {
+            AmplitudeBound::Relative(_) => {
+                let f = self.bound.unwrap_or(f64::INFINITY);
+                nd.y[..self.tr.n].iter().any(|v| v.abs() > f)
+            }
+            AmplitudeBound::Absolute(b) => {
+                self.trace.points.last().is_some_and(|p| p.outputs.iter().any(|o| o.max_abs > b))
+            }
+            AmplitudeBound::None => false,
+        }
+    }
+
+    /// Unscaled point data at `y`: Ω, the parameter, coefficients, outputs.
+    pub(super) fn point_at(&mut self, y: &[f64]) -> (f64, f64, Vec<f64>, Vec<PointOutput>) {
+        let mut coeffs = vec![0.0; self.tr.n];
+        self.tr.coeffs(y, &mut coeffs);
+        let mut outputs = Vec::new();
+        self.out.points(&coeffs, &mut outputs);
+        (self.tr.omega(y), self.tr.lambda(y), coeffs, outputs)
+    }
+
+    /// Accept a node: the point with its outputs and stability, and a located change
+    /// of stability inside the step that reached it.
+    fn accept(&mut self, y: Vec<f64>, t: Vec<f64>, border: Vec<f64>, h: f64, segment: usize) {
+        let (omega, param, coeffs, outputs) = self.point_at(&y);
+        let i = self.nodes.len();
+        // Exponents are tracked from point to point, except across a segment start or
+        // a fold (there the full analysis runs).
+        let continues = i > 0
+            && self.nodes[i - 1].segment == segment
+            && !self.trace.folds.iter().any(|f| f.after + 1 == i);
+        let mut node = Node { y, t, border, h, segment, growth: f64::NAN, crossing: None };
+        let stability = match &mut self.stab {
+            None => Stability::Unknown(Unknown::NotChecked),
+            Some(st) => {
+                if !continues {
+                    st.hill.reset();
+                }
+                self.tr.set_point(&node.y);
+                match st.hill.track(&mut self.tr.bal, &coeffs, omega, &st.opts) {
+                    Ok(f) => {
+                        node.growth = f.max_real - st.opts.tol * omega;
+                        node.crossing = f.leading_crossing(omega);
+                        self.trace.stats.stability_unrefined += usize::from(!f.refined);
+                        Stability::from_verdict(f.stable)
+                    }
+                    // Not shown stable: say so rather than guess.
+                    Err(e) => {
+                        self.trace.stats.stability_unrefined += 1;
+                        Stability::Unknown(Unknown::Failed(e.to_string()))
+                    }
+                }
+            }
+        };
+        self.nodes.push(node);
+        self.trace.points.push(CurvePoint { omega, param, coeffs, stability, outputs, segment });
+        self.queue.push_back(Event::Point(i));
+        if continues {
+            self.stability_change(i - 1);
+        }
+    }
+
+    /// A change of stability between nodes `i` and `i + 1` (not across a fold): locate
+    /// it and report it.
+    fn stability_change(&mut self, i: usize) {
+        let (a, b) = (&self.trace.points[i].stability, &self.trace.points[i + 1].stability);
+        let (Some(sa), Some(sb)) = (a.verdict(), b.verdict()) else { return };
+        if sa == sb || self.trace.folds.iter().any(|f| f.after == i) {
+            return;
+        }
+        let (g0, g1) = (self.nodes[i].growth, self.nodes[i + 1].growth);
+        if !(g0.is_finite() && g1.is_finite()) {
+            return;
+        }
+        let unstable = if sa { i + 1 } else { i };
+        let kind = match self.nodes[unstable].crossing {
+            Some(Crossing::Real) => BifurcationKind::BranchPoint,
+            Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
+            _ => BifurcationKind::Torus,
+        };
+        let Some(st) = self.stab.as_mut() else { return };
+        let so = st.opts;
+        let mut locator = match st.locator.take() {
+            Some(h) => h,
+            None => match Hill::new(self.model, self.opts.harmonics) {
+                Ok(h) => h,
+                Err(_) => return,
+            },
+        };
+        let StabilityChange { y, located } =
+            self.locate_stability_change(&mut locator, &so, i, g0, g1);
+        if let Some(st) = self.stab.as_mut() {
+            st.locator = Some(locator);
+        }
+        let (omega, param, _, outputs) = self.point_at(&y);
+        self.trace.bifurcations.push(Bifurcation {
+            kind,
+            omega,
+            param,
+            after: i,
+            outputs,
+            located,
+        });
+        self.queue.push_back(Event::Bifurcation(self.trace.bifurcations.len() - 1));
+    }
+}
+
+/// The unit vector along the parameter axis (`n` coefficients, then the parameter).
+pub(super) fn unit(n: usize) -> Vec<f64> {
+    let mut e = vec![0.0; n + 1];
+    e[n] = 1.0;
+    e
+}
