@@ -227,21 +227,20 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
         let t = terms(t);
         quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), terms: #t })
     });
-    let degree = a.degree as usize;
-    let max_k = a.max_k.max(1) as usize;
+    let shape = a.shape();
+    let degree = shape.degree as usize;
+    let max_k = shape.max_harmonic.max(1) as usize;
     let description = &def.doc;
-    let affine = a.affine_signals();
-    let explicit_omega = a.explicit_omega();
+    let affine = shape.affine;
+    let explicit_omega = shape.explicit_omega;
 
     // Residual body.
     let mut uses = Uses::default();
     for eq in &a.equations {
         collect(eq, &mut uses);
     }
-    for (n, _, used) in &a.aliases {
-        if *used {
-            collect(n, &mut uses);
-        }
+    for alias in a.aliases.iter().filter(|x| x.used) {
+        collect(&alias.node, &mut uses);
     }
     uses.params.sort_unstable();
     uses.signals.sort_unstable();
@@ -274,10 +273,10 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
     });
     let mut alias_kinds = Vec::new();
     let mut alias_lets = Vec::new();
-    for (i, (n, _, used)) in a.aliases.iter().enumerate() {
-        let (code, kind) = expr(n, &alias_kinds);
+    for (i, alias) in a.aliases.iter().enumerate() {
+        let (code, kind) = expr(&alias.node, &alias_kinds);
         alias_kinds.push(kind);
-        if *used {
+        if alias.used {
             let id = format_ident!("__a{}", i);
             alias_lets.push(quote!(let #id = #code;));
         }
