@@ -102,78 +102,54 @@ pub struct LinearReader<'a> {
     pub lets: &'a [LetDecl],
 }
 
+/// The error for a form that is not linear, saying why.
+fn not_linear<T>(e: &Expr, why: &str) -> syn::Result<T> {
+    err(
+        Sp::of(&e),
+        format!(
+            "`{}` is not linear in the DOFs ({why}): here only a DOF, a `let` alias of a \
+             linear combination, or a linear combination with parameter/literal \
+             coefficients is allowed",
+            show(e)
+        ),
+    )
+}
+
 impl LinearReader<'_> {
     /// The linear form of `e` in the DOFs (for `D` arguments and outputs).
     pub fn read(&self, e: &Expr) -> syn::Result<Lin> {
-        let konst = Lin::konst;
-        let not_linear = |e: &Expr, why: &str| {
-            err(
-                Sp::of(&e),
-                format!(
-                    "`{}` is not linear in the DOFs ({why}): here only a DOF, a `let` alias of a \
-                     linear combination, or a linear combination with parameter/literal \
-                     coefficients is allowed",
-                    show(e)
-                ),
-            )
-        };
         match e {
             Expr::Paren(p) => self.read(&p.expr),
             Expr::Group(g) => self.read(&g.expr),
-            Expr::Lit(l) => Ok(konst(CoefPoly::constant(literal_value(&l.lit)?), Sp::of(&l))),
+            Expr::Lit(l) => Ok(Lin::konst(CoefPoly::constant(literal_value(&l.lit)?), Sp::of(&l))),
             Expr::Path(_) => {
                 let Some(ident) = ident_of(e) else {
                     return err(Sp::of(&e), format!("unknown name `{}`", show(e)));
                 };
                 if ident == "omega" {
-                    return Ok(konst(CoefPoly::atom(Atom::Omega), Sp::of(&ident)));
+                    return Ok(Lin::konst(CoefPoly::atom(Atom::Omega), Sp::of(&ident)));
                 }
                 match self.scope.lookup(ident)? {
-                    Name::Param(i) => Ok(konst(CoefPoly::atom(Atom::Param(i)), Sp::of(&ident))),
+                    Name::Param(i) => {
+                        Ok(Lin::konst(CoefPoly::atom(Atom::Param(i)), Sp::of(&ident)))
+                    }
                     Name::Dof(i) => Ok(Lin::dof(i)),
                     Name::Alias(i) => self.read(&self.lets[i].expr),
                 }
             }
             Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => Ok(self.read(&u.expr)?.neg()),
-            Expr::Binary(b) => {
-                let l = self.read(&b.left)?;
-                let r = self.read(&b.right)?;
-                match b.op {
-                    BinOp::Add(_) => Ok(l.add(r)),
-                    BinOp::Sub(_) => Ok(l.add(r.neg())),
-                    BinOp::Mul(_) => match (l.has_dofs(), r.has_dofs()) {
-                        (true, true) => not_linear(e, "a product of DOF terms"),
-                        (false, _) => Ok(r.scale(&l.konst)),
-                        (true, false) => Ok(l.scale(&r.konst)),
-                    },
-                    BinOp::Div(_) => {
-                        if r.has_dofs() {
-                            return not_linear(e, "division by a DOF term");
-                        }
-                        match r.konst.recip() {
-                            Ok(inv) => Ok(l.scale(&inv)),
-                            Err(NoRecip::Zero) => err(Sp::of(&b.right), "division by zero"),
-                            Err(NoRecip::Sum) => err(
-                                Sp::of(&b.right),
-                                "inside `D(...)` and outputs, divide only by a product of \
-                                 parameters and literals",
-                            ),
-                        }
-                    }
-                    _ => not_linear(e, "unsupported operator"),
-                }
-            }
+            Expr::Binary(b) => self.binary(e, b),
             Expr::MethodCall(m) if m.method == "powi" => {
                 let k = powi_exponent(m)?;
                 let base = self.read(&m.receiver)?;
                 if base.has_dofs() {
                     match k {
-                        0 => Ok(konst(CoefPoly::constant(1.0), Sp::of(&m))),
+                        0 => Ok(Lin::konst(CoefPoly::constant(1.0), Sp::of(&m))),
                         1 => Ok(base),
                         _ => not_linear(e, "a power of a DOF term"),
                     }
                 } else {
-                    Ok(konst(base.konst.powi(k), Sp::of(&m)))
+                    Ok(Lin::konst(base.konst.powi(k), Sp::of(&m)))
                 }
             }
             Expr::Call(c) if ident_of(&c.func).is_some_and(|i| i == "D") => {
@@ -183,6 +159,36 @@ impl LinearReader<'_> {
                 not_linear(e, "forcing is not a DOF term")
             }
             other => not_linear(other, "unsupported expression"),
+        }
+    }
+
+    /// `e` is `b`: sums and differences of forms, products and quotients by coefficients.
+    fn binary(&self, e: &Expr, b: &syn::ExprBinary) -> syn::Result<Lin> {
+        let l = self.read(&b.left)?;
+        let r = self.read(&b.right)?;
+        match b.op {
+            BinOp::Add(_) => Ok(l.add(r)),
+            BinOp::Sub(_) => Ok(l.add(r.neg())),
+            BinOp::Mul(_) => match (l.has_dofs(), r.has_dofs()) {
+                (true, true) => not_linear(e, "a product of DOF terms"),
+                (false, _) => Ok(r.scale(&l.konst)),
+                (true, false) => Ok(l.scale(&r.konst)),
+            },
+            BinOp::Div(_) => {
+                if r.has_dofs() {
+                    return not_linear(e, "division by a DOF term");
+                }
+                match r.konst.recip() {
+                    Ok(inv) => Ok(l.scale(&inv)),
+                    Err(NoRecip::Zero) => err(Sp::of(&b.right), "division by zero"),
+                    Err(NoRecip::Sum) => err(
+                        Sp::of(&b.right),
+                        "inside `D(...)` and outputs, divide only by a product of \
+                         parameters and literals",
+                    ),
+                }
+            }
+            _ => not_linear(e, "unsupported operator"),
         }
     }
 }

@@ -12,6 +12,7 @@ use super::syntax::{ident_of, powi_exponent, show, strip};
 use super::tree::{Alias, Node, OrderKey, SignalKey, Trig};
 use crate::parse::{literal_value, Equation, LetDecl};
 use quote::ToTokens;
+use std::collections::BTreeMap;
 use syn::{BinOp, Expr, Lit, UnOp};
 
 /// What the polynomial allows, repeated in several messages.
@@ -101,36 +102,7 @@ impl<'a> Lower<'a> {
             );
         }
         let (e, n) = (&c.args[0], &c.args[1]);
-        let order_msg = "the order of `D(e, n)` must be an integer literal (0, 1, 2, ...) or a \
-                         parameter name (a fractional order)";
-        let order = match strip(n) {
-            Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => match i.base10_parse::<u32>() {
-                Ok(k) => OrderKey::Int(k),
-                Err(_) => return err(Sp::of(&i), order_msg),
-            },
-            Expr::Lit(syn::ExprLit { lit: Lit::Float(f), .. }) => {
-                return err(
-                    Sp::of(&f),
-                    format!(
-                        "{order_msg}; for a fractional order declare a parameter, e.g. \
-                         `p = {}`, and write `D(e, p)`",
-                        f.base10_digits()
-                    ),
-                )
-            }
-            other => match ident_of(other) {
-                Some(ident) => match self.scope.lookup(ident)? {
-                    Name::Param(i) => OrderKey::Param(i),
-                    name => {
-                        return err(
-                            Sp::of(&ident),
-                            format!("{order_msg}; `{ident}` is {}", name.kind()),
-                        )
-                    }
-                },
-                None => return err(Sp::of(&other), order_msg),
-            },
-        };
+        let order = self.order(n)?;
         let lin = self.linear().read(e)?;
         if !lin.konst.is_zero() {
             return err(
@@ -143,34 +115,9 @@ impl<'a> Lower<'a> {
             );
         }
         let mut node: Option<Node> = None;
-        for Group { atoms, scale: c0, terms } in lin.signal_groups() {
+        for Group { atoms, scale, terms } in lin.signal_groups() {
             let s = Node::Signal(self.signal(SignalKey { terms, order }));
-            let mut factor: Option<Node> = None;
-            let mut divisor: Option<Node> = None;
-            for (atom, pow) in atoms {
-                let base = match atom {
-                    Atom::Param(i) => Node::Param(i),
-                    Atom::Omega => Node::Omega,
-                };
-                let p = Node::Powi(Box::new(base), pow.unsigned_abs());
-                let slot = if pow > 0 { &mut factor } else { &mut divisor };
-                *slot = Some(match slot.take() {
-                    Some(f) => Node::Mul(Box::new(f), Box::new(p)),
-                    None => p,
-                });
-            }
-            let mut term = match factor {
-                Some(f) => Node::Mul(Box::new(f), Box::new(s)),
-                None => s,
-            };
-            if let Some(d) = divisor {
-                term = Node::Div(Box::new(term), Box::new(d));
-            }
-            if c0 == -1.0 {
-                term = Node::Neg(Box::new(term));
-            } else if c0 != 1.0 {
-                term = Node::Mul(Box::new(Node::Lit(c0)), Box::new(term));
-            }
+            let term = scaled(s, &atoms, scale);
             node = Some(match node {
                 Some(n) => Node::Add(Box::new(n), Box::new(term)),
                 None => term,
@@ -182,106 +129,142 @@ impl<'a> Lower<'a> {
         Ok((node, Info { dof: Some(Sp::of(&c)), forcing: None }))
     }
 
+    /// The order `n` of `D(e, n)`: an integer literal or a parameter.
+    fn order(&self, n: &Expr) -> syn::Result<OrderKey> {
+        let order_msg = "the order of `D(e, n)` must be an integer literal (0, 1, 2, ...) or a \
+                         parameter name (a fractional order)";
+        match strip(n) {
+            Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => match i.base10_parse::<u32>() {
+                Ok(k) => Ok(OrderKey::Int(k)),
+                Err(_) => err(Sp::of(&i), order_msg),
+            },
+            Expr::Lit(syn::ExprLit { lit: Lit::Float(f), .. }) => err(
+                Sp::of(&f),
+                format!(
+                    "{order_msg}; for a fractional order declare a parameter, e.g. \
+                     `p = {}`, and write `D(e, p)`",
+                    f.base10_digits()
+                ),
+            ),
+            other => match ident_of(other) {
+                Some(ident) => match self.scope.lookup(ident)? {
+                    Name::Param(i) => Ok(OrderKey::Param(i)),
+                    name => {
+                        err(Sp::of(&ident), format!("{order_msg}; `{ident}` is {}", name.kind()))
+                    }
+                },
+                None => err(Sp::of(&other), order_msg),
+            },
+        }
+    }
+
     /// Convert an expression in value context, checking that it is polynomial.
     fn value(&mut self, e: &Expr) -> syn::Result<(Node, Info)> {
-        let coef = |n: Node| Ok((n, Info::default()));
         match e {
             Expr::Paren(p) => self.value(&p.expr),
             Expr::Group(g) => self.value(&g.expr),
-            Expr::Lit(l) => coef(Node::Lit(literal_value(&l.lit)?)),
-            Expr::Path(_) => {
-                let Some(ident) = ident_of(e) else {
-                    return err(
-                        Sp::of(&e),
-                        format!("unknown name `{}`: use plain names declared above", show(e)),
-                    );
-                };
-                if ident == "omega" {
-                    return coef(Node::Omega);
-                }
-                match self.scope.lookup(ident)? {
-                    Name::Param(i) => coef(Node::Param(i)),
-                    Name::Dof(i) => {
-                        let s = self
-                            .signal(SignalKey { terms: vec![(i, 1.0)], order: OrderKey::Int(0) });
-                        Ok((Node::Signal(s), Info { dof: Some(Sp::of(&ident)), forcing: None }))
-                    }
-                    Name::Alias(i) => {
-                        let info = self.aliases[i].1;
-                        // Point messages at this use, not at the alias's definition.
-                        let at = Sp::of(&ident);
-                        let info =
-                            Info { dof: info.dof.map(|_| at), forcing: info.forcing.map(|_| at) };
-                        Ok((Node::Alias(i), info))
-                    }
-                }
-            }
+            Expr::Lit(l) => Ok((Node::Lit(literal_value(&l.lit)?), Info::default())),
+            Expr::Path(_) => self.name(e),
             Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
                 let (n, i) = self.value(&u.expr)?;
                 Ok((Node::Neg(Box::new(n)), i))
             }
             Expr::Binary(b) => self.binary(b),
-            Expr::MethodCall(m) => {
-                let name = m.method.to_string();
-                if name == "powi" {
-                    let k = powi_exponent(m)?;
-                    let (n, i) = self.value(&m.receiver)?;
-                    if k >= 2 {
-                        if let Some(f) = i.forcing {
-                            return err(
-                                f,
-                                format!(
-                                    "`{}` raises forcing to a power: forcing may only be \
-                                     multiplied by coefficients; write products of harmonics \
-                                     as a sum of harmonics",
-                                    show(e)
-                                ),
-                            );
-                        }
-                    }
-                    if k == 0 {
-                        return coef(Node::Lit(1.0));
-                    }
-                    return Ok((Node::Powi(Box::new(n), k), i));
-                }
-                if (name == "cos" || name == "sin") && m.args.is_empty() {
-                    let k = harmonic(&m.receiver, Sp::of(&e), &show(e))?;
-                    return self.forcing(&name, k, Sp::of(&e));
-                }
-                err(
-                    Sp::of(&m.method),
-                    format!(
-                        "`.{name}(...)` is not allowed: only `.powi(k)` with an integer literal \
-                         k >= 0 keeps the model polynomial"
-                    ),
-                )
-            }
-            Expr::Call(c) => {
-                let Some(f) = ident_of(&c.func) else {
-                    return err(Sp::of(&c.func), format!("unsupported function: {ALLOWED}"));
-                };
-                let fname = f.to_string();
-                match fname.as_str() {
-                    "D" => self.derivative(c),
-                    "cos" | "sin" => {
-                        if c.args.len() != 1 {
-                            return err(Sp::of(&c), format!("`{fname}` takes one argument"));
-                        }
-                        let k = harmonic(&c.args[0], Sp::of(&c), &show(e))?;
-                        self.forcing(&fname, k, Sp::of(&c))
-                    }
-                    _ => err(
-                        Sp::of(&f),
-                        format!(
-                            "unknown function `{fname}`: the only functions are `D(e, n)`, \
-                             `cos(k * omega * t)` and `sin(k * omega * t)`"
-                        ),
-                    ),
-                }
-            }
+            Expr::MethodCall(m) => self.method(e, m),
+            Expr::Call(c) => self.call(e, c),
             other => err(
                 Sp::of(&other),
                 format!("`{}` is not allowed in oscillator!: {ALLOWED}", show(other)),
+            ),
+        }
+    }
+
+    /// A name in value context: `omega`, a parameter, a DOF (its signal of order 0) or
+    /// an alias.
+    fn name(&mut self, e: &Expr) -> syn::Result<(Node, Info)> {
+        let Some(ident) = ident_of(e) else {
+            return err(
+                Sp::of(&e),
+                format!("unknown name `{}`: use plain names declared above", show(e)),
+            );
+        };
+        if ident == "omega" {
+            return Ok((Node::Omega, Info::default()));
+        }
+        match self.scope.lookup(ident)? {
+            Name::Param(i) => Ok((Node::Param(i), Info::default())),
+            Name::Dof(i) => {
+                let s = self.signal(SignalKey { terms: vec![(i, 1.0)], order: OrderKey::Int(0) });
+                Ok((Node::Signal(s), Info { dof: Some(Sp::of(&ident)), forcing: None }))
+            }
+            Name::Alias(i) => {
+                let info = self.aliases[i].1;
+                // Point messages at this use, not at the alias's definition.
+                let at = Sp::of(&ident);
+                let info = Info { dof: info.dof.map(|_| at), forcing: info.forcing.map(|_| at) };
+                Ok((Node::Alias(i), info))
+            }
+        }
+    }
+
+    /// `e` is `m`: `.powi(k)`, or forcing written `(k * omega * t).cos()`.
+    fn method(&mut self, e: &Expr, m: &syn::ExprMethodCall) -> syn::Result<(Node, Info)> {
+        let name = m.method.to_string();
+        if name == "powi" {
+            let k = powi_exponent(m)?;
+            let (n, i) = self.value(&m.receiver)?;
+            if k >= 2 {
+                if let Some(f) = i.forcing {
+                    return err(
+                        f,
+                        format!(
+                            "`{}` raises forcing to a power: forcing may only be \
+                             multiplied by coefficients; write products of harmonics \
+                             as a sum of harmonics",
+                            show(e)
+                        ),
+                    );
+                }
+            }
+            if k == 0 {
+                return Ok((Node::Lit(1.0), Info::default()));
+            }
+            return Ok((Node::Powi(Box::new(n), k), i));
+        }
+        if (name == "cos" || name == "sin") && m.args.is_empty() {
+            let k = harmonic(&m.receiver, Sp::of(&e), &show(e))?;
+            return self.forcing(&name, k, Sp::of(&e));
+        }
+        err(
+            Sp::of(&m.method),
+            format!(
+                "`.{name}(...)` is not allowed: only `.powi(k)` with an integer literal \
+                 k >= 0 keeps the model polynomial"
+            ),
+        )
+    }
+
+    /// `e` is `c`: `D(e, n)` or forcing `cos/sin(k * omega * t)`.
+    fn call(&mut self, e: &Expr, c: &syn::ExprCall) -> syn::Result<(Node, Info)> {
+        let Some(f) = ident_of(&c.func) else {
+            return err(Sp::of(&c.func), format!("unsupported function: {ALLOWED}"));
+        };
+        let fname = f.to_string();
+        match fname.as_str() {
+            "D" => self.derivative(c),
+            "cos" | "sin" => {
+                if c.args.len() != 1 {
+                    return err(Sp::of(&c), format!("`{fname}` takes one argument"));
+                }
+                let k = harmonic(&c.args[0], Sp::of(&c), &show(e))?;
+                self.forcing(&fname, k, Sp::of(&c))
+            }
+            _ => err(
+                Sp::of(&f),
+                format!(
+                    "unknown function `{fname}`: the only functions are `D(e, n)`, \
+                     `cos(k * omega * t)` and `sin(k * omega * t)`"
+                ),
             ),
         }
     }
@@ -355,4 +338,36 @@ impl<'a> Lower<'a> {
             ),
         }
     }
+}
+
+/// `scale · Π atom^power · s` as a tree: positive powers multiply, negative ones divide,
+/// and a scale of ±1 writes no literal.
+fn scaled(s: Node, atoms: &BTreeMap<Atom, i32>, scale: f64) -> Node {
+    let mut factor: Option<Node> = None;
+    let mut divisor: Option<Node> = None;
+    for (atom, pow) in atoms {
+        let base = match atom {
+            Atom::Param(i) => Node::Param(*i),
+            Atom::Omega => Node::Omega,
+        };
+        let p = Node::Powi(Box::new(base), pow.unsigned_abs());
+        let slot = if *pow > 0 { &mut factor } else { &mut divisor };
+        *slot = Some(match slot.take() {
+            Some(f) => Node::Mul(Box::new(f), Box::new(p)),
+            None => p,
+        });
+    }
+    let mut term = match factor {
+        Some(f) => Node::Mul(Box::new(f), Box::new(s)),
+        None => s,
+    };
+    if let Some(d) = divisor {
+        term = Node::Div(Box::new(term), Box::new(d));
+    }
+    if scale == -1.0 {
+        term = Node::Neg(Box::new(term));
+    } else if scale != 1.0 {
+        term = Node::Mul(Box::new(Node::Lit(scale)), Box::new(term));
+    }
+    term
 }
