@@ -1,7 +1,7 @@
 //! Lowering: each equation and alias, read in value context, becomes a [`Node`] tree
 //! over numbered signals, with the checks that keep the model polynomial in the signals
 //! and its forcing `cos/sin(k * omega * t)` times coefficients. Signals are interned as
-//! they are met (`D(e, n)` splits `e` through [`Lin::signal_groups`]).
+//! they are met (`D(e, n)` splits `e` through `Lin::signal_groups`).
 
 use super::coeff::Atom;
 use super::diag::{err, Sp};
@@ -32,7 +32,7 @@ struct Info {
 /// the lowered aliases.
 pub struct Lower<'a> {
     lets: &'a [LetDecl],
-    pub scope: Scope,
+    scope: Scope,
     signals: Vec<SignalKey>,
     aliases: Vec<(Node, Info)>,
 }
