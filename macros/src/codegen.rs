@@ -1,21 +1,37 @@
-//! Code generation: the struct, `Default`, and the `Model` impl.
-//!
-//! The residual is emitted from the alias-expanded tree as straight-line code over
-//! locals (parameters, signals, `cos(k·phase)` in f64, aliases computed once), so one
-//! sample costs what a hand-written residual costs and allocates nothing.
+//! Code generation: the struct, `Default`, and the `Model` impl, each piece from a
+//! function of its own; the residual, the one piece that is computed per sample, is
+//! in `residual`.
 
-use crate::analyze::{show, Analysis, Node, OrderKey, Trig};
+mod residual;
+
+use crate::analyze::{show, Analysis, OrderKey};
 use crate::parse::ModelDef;
 use proc_macro2::{Literal, TokenStream};
-use quote::{format_ident, quote, ToTokens};
+use quote::quote;
 
-/// Whether a generated expression is a plain `f64` or the dual type.
-#[derive(Clone, Copy, PartialEq)]
-enum Kind {
-    Const,
-    Dual,
+/// Everything the macro emits.
+pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
+    let ident = &def.ident;
+    let model_name =
+        def.model_name.as_ref().map_or_else(|| kebab(&ident.to_string()), |s| s.value());
+    let eq_text = equation_text(def);
+    let item = struct_and_default(def, &eq_text);
+    let metadata = metadata(def, a, &model_name, &eq_text);
+    let params = param_access(def, &model_name);
+    let residual = residual::residual(a);
+    quote! {
+        #item
+
+        #[allow(non_snake_case, clippy::all)]
+        impl ::ihbm::model::Model for #ident {
+            #metadata
+            #params
+            #residual
+        }
+    }
 }
 
+/// An `f64` literal (suffixed, so it never infers as another float type).
 fn float(v: f64) -> TokenStream {
     let lit = Literal::f64_suffixed(v.abs());
     if v < 0.0 {
@@ -40,128 +56,24 @@ fn kebab(name: &str) -> String {
     out
 }
 
-/// What the residual body needs declared up front.
-#[derive(Default)]
-struct Uses {
-    params: Vec<usize>,
-    signals: Vec<usize>,
-    forcing: Vec<(Trig, u32)>,
-}
-
-fn collect(n: &Node, u: &mut Uses) {
-    let add = |v: &mut Vec<usize>, i: usize| {
-        if !v.contains(&i) {
-            v.push(i)
-        }
-    };
-    match n {
-        Node::Param(i) => add(&mut u.params, *i),
-        Node::Signal(i) => add(&mut u.signals, *i),
-        Node::Forcing(t, k) => {
-            if !u.forcing.contains(&(*t, *k)) {
-                u.forcing.push((*t, *k));
-            }
-        }
-        Node::Alias(_) | Node::Lit(_) | Node::Omega => {}
-        Node::Add(x, y) | Node::Sub(x, y) | Node::Mul(x, y) | Node::Div(x, y) => {
-            collect(x, u);
-            collect(y, u);
-        }
-        Node::Neg(x) | Node::Powi(x, _) => collect(x, u),
-    }
-}
-
-fn expr(n: &Node, alias_kinds: &[Kind]) -> (TokenStream, Kind) {
-    let bin = |x: &Node, y: &Node| (expr(x, alias_kinds), expr(y, alias_kinds));
-    match n {
-        Node::Lit(v) => (float(*v), Kind::Const),
-        Node::Param(i) => (format_ident!("__p{}", i).into_token_stream(), Kind::Dual),
-        Node::Omega => (quote!(__omega), Kind::Dual),
-        Node::Signal(i) => (format_ident!("__s{}", i).into_token_stream(), Kind::Dual),
-        Node::Alias(i) => (format_ident!("__a{}", i).into_token_stream(), alias_kinds[*i]),
-        Node::Forcing(t, k) => {
-            let name = match t {
-                Trig::Cos => format_ident!("__cos{}", k),
-                Trig::Sin => format_ident!("__sin{}", k),
-            };
-            (name.into_token_stream(), Kind::Const)
-        }
-        Node::Neg(x) => {
-            let (t, k) = expr(x, alias_kinds);
-            (quote!((-#t)), k)
-        }
-        Node::Add(x, y) => {
-            let ((a, ka), (b, kb)) = bin(x, y);
-            match (ka, kb) {
-                (Kind::Const, Kind::Dual) => (quote!((#b + #a)), Kind::Dual),
-                (Kind::Const, Kind::Const) => (quote!((#a + #b)), Kind::Const),
-                _ => (quote!((#a + #b)), Kind::Dual),
-            }
-        }
-        Node::Sub(x, y) => {
-            let ((a, ka), (b, kb)) = bin(x, y);
-            match (ka, kb) {
-                (Kind::Const, Kind::Dual) => (quote!((-#b + #a)), Kind::Dual),
-                (Kind::Const, Kind::Const) => (quote!((#a - #b)), Kind::Const),
-                _ => (quote!((#a - #b)), Kind::Dual),
-            }
-        }
-        Node::Mul(x, y) => {
-            let ((a, ka), (b, kb)) = bin(x, y);
-            match (ka, kb) {
-                (Kind::Const, Kind::Dual) => (quote!((#b * #a)), Kind::Dual),
-                (Kind::Const, Kind::Const) => (quote!((#a * #b)), Kind::Const),
-                _ => (quote!((#a * #b)), Kind::Dual),
-            }
-        }
-        Node::Div(x, y) => {
-            let ((a, ka), (b, kb)) = bin(x, y);
-            match (ka, kb) {
-                (Kind::Const, Kind::Dual) => (quote!((#b.recip() * #a)), Kind::Dual),
-                (Kind::Const, Kind::Const) => (quote!((#a / #b)), Kind::Const),
-                _ => (quote!((#a / #b)), Kind::Dual),
-            }
-        }
-        Node::Powi(x, k) => {
-            let (t, kind) = expr(x, alias_kinds);
-            let code = match k {
-                0 => return (float(1.0), Kind::Const),
-                1 => t,
-                2 => quote!({ let __t = #t; __t * __t }),
-                3 => quote!({ let __t = #t; __t * __t * __t }),
-                4 => quote!({ let __t = #t; let __t2 = __t * __t; __t2 * __t2 }),
-                _ => {
-                    let k = *k as i32;
-                    quote!(#t.powi(#k))
-                }
-            };
-            (code, kind)
-        }
-    }
-}
-
-/// Everything the macro emits.
-pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
-    let ident = &def.ident;
-    let vis = &def.vis;
-    let attrs = &def.attrs;
-    let model_name =
-        def.model_name.as_ref().map_or_else(|| kebab(&ident.to_string()), |s| s.value());
-
-    // Equation text: `lhs = rhs`, then one `where` line per alias.
+/// The equations as text: `lhs = rhs`, then one `where` line per alias.
+fn equation_text(def: &ModelDef) -> Vec<String> {
     let mut eq_text: Vec<String> =
         def.equations.iter().map(|e| format!("{} = {}", show(&e.lhs), show(&e.rhs))).collect();
     for l in &def.lets {
         eq_text.push(format!("where {} = {}", l.name, show(&l.expr)));
     }
+    eq_text
+}
 
-    // Struct docs: the user's, then the generated equations and parameter table.
+/// Struct docs: the user's, then the generated equations and parameter table.
+fn struct_doc(def: &ModelDef, eq_text: &[String]) -> String {
     let mut doc = def.doc.clone();
     if !doc.is_empty() {
         doc.push_str("\n\n");
     }
     doc.push_str("# Equations\n\n```text\n");
-    for e in &eq_text {
+    for e in eq_text {
         doc.push_str(e);
         doc.push('\n');
     }
@@ -169,11 +81,19 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
     for p in &def.params {
         doc.push_str(&format!("- `{} = {}`: {}\n", p.name, p.default, p.doc));
     }
-    let doc_attrs = doc.lines().map(|l| {
-        let l = format!(" {l}");
-        quote!(#[doc = #l])
-    });
+    doc
+}
 
+/// The struct, one documented `pub f64` field per parameter, and `Default`.
+fn struct_and_default(def: &ModelDef, eq_text: &[String]) -> TokenStream {
+    let (ident, vis, attrs) = (&def.ident, &def.vis, &def.attrs);
+    let doc_attrs = struct_doc(def, eq_text)
+        .lines()
+        .map(|l| {
+            let l = format!(" {l}");
+            quote!(#[doc = #l])
+        })
+        .collect::<Vec<_>>();
     let fields = def.params.iter().map(|p| {
         let name = &p.name;
         let doc = format!(" {}", p.doc);
@@ -185,113 +105,6 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
         let v = float(p.default);
         quote!(#name: #v)
     });
-    let infos = def.params.iter().map(|p| {
-        let name = p.name.to_string();
-        let v = float(p.default);
-        let doc = &p.doc;
-        quote!(::ihbm::model::ParamInfo {
-            name: ::std::borrow::Cow::Borrowed(#name),
-            default: #v,
-            doc: ::std::borrow::Cow::Borrowed(#doc),
-        })
-    });
-    let nparams = def.params.len();
-    let get_arms = def.params.iter().enumerate().map(|(i, p)| {
-        let name = &p.name;
-        quote!(#i => self.#name)
-    });
-    let set_arms = def.params.iter().enumerate().map(|(i, p)| {
-        let name = &p.name;
-        quote!(#i => self.#name = value)
-    });
-    let dofs = def.dofs.iter().map(|d| {
-        let d = d.to_string();
-        quote!(::std::borrow::Cow::Borrowed(#d))
-    });
-    let terms = |t: &[(usize, f64)]| {
-        let pairs = t.iter().map(|(d, c)| {
-            let c = float(*c);
-            quote!((#d, #c))
-        });
-        quote!(::std::borrow::Cow::Borrowed(&[#(#pairs),*]))
-    };
-    let signals = a.signals.iter().map(|s| {
-        let t = terms(&s.terms);
-        let order = match s.order {
-            OrderKey::Int(n) => quote!(::ihbm::model::Order::Int(#n)),
-            OrderKey::Param(i) => quote!(::ihbm::model::Order::Param(#i)),
-        };
-        quote!(::ihbm::model::Signal { terms: #t, order: #order })
-    });
-    let outputs = a.outputs.iter().map(|(name, t)| {
-        let t = terms(t);
-        quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), terms: #t })
-    });
-    let degree = a.degree as usize;
-    let max_k = a.max_k.max(1) as usize;
-    let description = &def.doc;
-    let affine = a.affine_signals();
-    let explicit_omega = a.explicit_omega();
-
-    // Residual body.
-    let mut uses = Uses::default();
-    for eq in &a.equations {
-        collect(eq, &mut uses);
-    }
-    for (n, _, used) in &a.aliases {
-        if *used {
-            collect(n, &mut uses);
-        }
-    }
-    uses.params.sort_unstable();
-    uses.signals.sort_unstable();
-    uses.forcing.sort_unstable();
-    let param_lets = uses.params.iter().map(|i| {
-        let id = format_ident!("__p{}", i);
-        quote!(let #id = __params[#i];)
-    });
-    let signal_lets = uses.signals.iter().map(|i| {
-        let id = format_ident!("__s{}", i);
-        quote!(let #id = __signals[#i];)
-    });
-    let forcing_lets = uses.forcing.iter().map(|(t, k)| {
-        let arg = if *k == 1 {
-            quote!(__phase)
-        } else {
-            let kf = float(*k as f64);
-            quote!((#kf * __phase))
-        };
-        match t {
-            Trig::Cos => {
-                let id = format_ident!("__cos{}", k);
-                quote!(let #id: f64 = #arg.cos();)
-            }
-            Trig::Sin => {
-                let id = format_ident!("__sin{}", k);
-                quote!(let #id: f64 = #arg.sin();)
-            }
-        }
-    });
-    let mut alias_kinds = Vec::new();
-    let mut alias_lets = Vec::new();
-    for (i, (n, _, used)) in a.aliases.iter().enumerate() {
-        let (code, kind) = expr(n, &alias_kinds);
-        alias_kinds.push(kind);
-        if *used {
-            let id = format_ident!("__a{}", i);
-            alias_lets.push(quote!(let #id = #code;));
-        }
-    }
-    let outs = a.equations.iter().enumerate().map(|(i, n)| {
-        let (code, kind) = expr(n, &alias_kinds);
-        if kind == Kind::Const {
-            quote!(__out[#i] = __IhbmD::from(#code);)
-        } else {
-            quote!(__out[#i] = #code;)
-        }
-    });
-    let nout = a.equations.len();
-
     quote! {
         #(#doc_attrs)*
         #[derive(Debug, Clone, PartialEq)]
@@ -306,77 +119,119 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
                 #ident { #(#defaults,)* }
             }
         }
+    }
+}
 
-        #[allow(non_snake_case, clippy::all)]
-        impl ::ihbm::model::Model for #ident {
-            fn name(&self) -> &str {
-                #model_name
+/// `params_info`, `param_value` and `set_param_value`: parameter `i` is field `i`.
+fn param_access(def: &ModelDef, model_name: &str) -> TokenStream {
+    let infos = def.params.iter().map(|p| {
+        let name = p.name.to_string();
+        let v = float(p.default);
+        let doc = &p.doc;
+        quote!(::ihbm::model::ParamInfo {
+            name: ::std::borrow::Cow::Borrowed(#name),
+            default: #v,
+            doc: ::std::borrow::Cow::Borrowed(#doc),
+        })
+    });
+    let nparams = def.params.len();
+    let out_of_range = quote!(_ => ::core::panic!("parameter index {} out of range: model `{}` has {} parameters", index, #model_name, #nparams));
+    let get_arms = def.params.iter().enumerate().map(|(i, p)| {
+        let name = &p.name;
+        quote!(#i => self.#name)
+    });
+    let set_arms = def.params.iter().enumerate().map(|(i, p)| {
+        let name = &p.name;
+        quote!(#i => self.#name = value)
+    });
+    quote! {
+        fn params_info(&self) -> &[::ihbm::model::ParamInfo] {
+            const __INFO: &[::ihbm::model::ParamInfo] = &[#(#infos),*];
+            __INFO
+        }
+        fn param_value(&self, index: usize) -> f64 {
+            match index {
+                #(#get_arms,)*
+                #out_of_range,
             }
-            fn description(&self) -> &str {
-                #description
+        }
+        fn set_param_value(&mut self, index: usize, value: f64) {
+            match index {
+                #(#set_arms,)*
+                #out_of_range,
             }
-            fn dofs(&self) -> &[::ihbm::model::Text] {
-                const __DOFS: &[::ihbm::model::Text] = &[#(#dofs),*];
-                __DOFS
-            }
-            fn params_info(&self) -> &[::ihbm::model::ParamInfo] {
-                const __INFO: &[::ihbm::model::ParamInfo] = &[#(#infos),*];
-                __INFO
-            }
-            fn param_value(&self, index: usize) -> f64 {
-                match index {
-                    #(#get_arms,)*
-                    _ => ::core::panic!("parameter index {} out of range: model `{}` has {} parameters", index, #model_name, #nparams),
-                }
-            }
-            fn set_param_value(&mut self, index: usize, value: f64) {
-                match index {
-                    #(#set_arms,)*
-                    _ => ::core::panic!("parameter index {} out of range: model `{}` has {} parameters", index, #model_name, #nparams),
-                }
-            }
-            fn signals(&self) -> &[::ihbm::model::Signal] {
-                const __SIGNALS: &[::ihbm::model::Signal] = &[#(#signals),*];
-                __SIGNALS
-            }
-            fn outputs(&self) -> &[::ihbm::model::Output] {
-                const __OUTPUTS: &[::ihbm::model::Output] = &[#(#outputs),*];
-                __OUTPUTS
-            }
-            fn degree(&self) -> usize {
-                #degree
-            }
-            fn max_forcing_harmonic(&self) -> usize {
-                #max_k
-            }
-            fn equations(&self) -> &[::ihbm::model::Text] {
-                const __EQUATIONS: &[::ihbm::model::Text] =
-                    &[#(::std::borrow::Cow::Borrowed(#eq_text)),*];
-                __EQUATIONS
-            }
-            fn affine_signals(&self) -> &[bool] {
-                &[#(#affine),*]
-            }
-            fn explicit_omega(&self) -> bool {
-                #explicit_omega
-            }
-            #[inline]
-            #[allow(unused_variables, unused_parens, clippy::all)]
-            fn residual<__IhbmD: ::ihbm::num_dual::DualNum<Primitive = f64> + Copy>(
-                &self,
-                __params: &[__IhbmD],
-                __omega: __IhbmD,
-                __phase: f64,
-                __signals: &[__IhbmD],
-                __out: &mut [__IhbmD],
-            ) {
-                let __out = &mut __out[..#nout];
-                #(#param_lets)*
-                #(#signal_lets)*
-                #(#forcing_lets)*
-                #(#alias_lets)*
-                #(#outs)*
-            }
+        }
+    }
+}
+
+/// `Cow::Borrowed(&[(dof, coef), ...])`.
+fn terms(t: &[(usize, f64)]) -> TokenStream {
+    let pairs = t.iter().map(|(d, c)| {
+        let c = float(*c);
+        quote!((#d, #c))
+    });
+    quote!(::std::borrow::Cow::Borrowed(&[#(#pairs),*]))
+}
+
+/// Name, description, DOFs, signals, outputs, equations and the model's shape.
+fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) -> TokenStream {
+    let description = &def.doc;
+    let dofs = def.dofs.iter().map(|d| {
+        let d = d.to_string();
+        quote!(::std::borrow::Cow::Borrowed(#d))
+    });
+    let signals = a.signals.iter().map(|s| {
+        let t = terms(&s.terms);
+        let order = match s.order {
+            OrderKey::Int(n) => quote!(::ihbm::model::Order::Int(#n)),
+            OrderKey::Param(i) => quote!(::ihbm::model::Order::Param(#i)),
+        };
+        quote!(::ihbm::model::Signal { terms: #t, order: #order })
+    });
+    let outputs = a.outputs.iter().map(|(name, t)| {
+        let t = terms(t);
+        quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), terms: #t })
+    });
+    let shape = a.shape();
+    let degree = shape.degree as usize;
+    // An unforced model reports 1, as the trait does by default.
+    let max_k = shape.max_harmonic.max(1) as usize;
+    let (affine, explicit_omega) = (shape.affine, shape.explicit_omega);
+    quote! {
+        fn name(&self) -> &str {
+            #model_name
+        }
+        fn description(&self) -> &str {
+            #description
+        }
+        fn dofs(&self) -> &[::ihbm::model::Text] {
+            const __DOFS: &[::ihbm::model::Text] = &[#(#dofs),*];
+            __DOFS
+        }
+        fn signals(&self) -> &[::ihbm::model::Signal] {
+            const __SIGNALS: &[::ihbm::model::Signal] = &[#(#signals),*];
+            __SIGNALS
+        }
+        fn outputs(&self) -> &[::ihbm::model::Output] {
+            const __OUTPUTS: &[::ihbm::model::Output] = &[#(#outputs),*];
+            __OUTPUTS
+        }
+        fn equations(&self) -> &[::ihbm::model::Text] {
+            const __EQUATIONS: &[::ihbm::model::Text] =
+                &[#(::std::borrow::Cow::Borrowed(#eq_text)),*];
+            __EQUATIONS
+        }
+        fn degree(&self) -> usize {
+            #degree
+        }
+        fn max_forcing_harmonic(&self) -> usize {
+            #max_k
+        }
+        fn affine_signals(&self) -> &[bool] {
+            &[#(#affine),*]
+        }
+        fn explicit_omega(&self) -> bool {
+            #explicit_omega
         }
     }
 }

@@ -2,8 +2,10 @@
 //! implementing `ihbm::model::Model`, with every symbolic check done at compile time.
 //!
 //! Pipeline: `parse` (surface syntax) → `analyze` (names, aliases, polynomial and
-//! forcing checks, signals) → `codegen` (struct, `Default`, `Model` impl). See the
-//! `ihbm` crate documentation for the language itself.
+//! forcing checks, signals, shape) → `codegen` (struct, `Default`, `Model` impl). The
+//! first two use no `proc_macro` API and end in a plain `analyze::Analysis`, so another
+//! reader of the language can share them; only `codegen` writes Rust. See the `ihbm`
+//! crate documentation for the language itself.
 
 mod analyze;
 mod codegen;

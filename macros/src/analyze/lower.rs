@@ -1,0 +1,373 @@
+//! Lowering: each equation and alias, read in value context, becomes a [`Node`] tree
+//! over numbered signals, with the checks that keep the model polynomial in the signals
+//! and its forcing `cos/sin(k * omega * t)` times coefficients. Signals are interned as
+//! they are met (`D(e, n)` splits `e` through `Lin::signal_groups`).
+
+use super::coeff::Atom;
+use super::diag::{err, Sp};
+use super::forcing::harmonic;
+use super::linear::{Group, LinearReader};
+use super::scope::{Name, Scope};
+use super::syntax::{ident_of, powi_exponent, show, strip};
+use super::tree::{Alias, Node, OrderKey, SignalKey, Trig};
+use crate::parse::{literal_value, Equation, LetDecl};
+use quote::ToTokens;
+use std::collections::BTreeMap;
+use syn::{BinOp, Expr, Lit, UnOp};
+
+/// What the polynomial allows, repeated in several messages.
+const ALLOWED: &str = "allowed are parameters, DOFs, `let` aliases, numeric literals, `omega`, \
+     `+ - *`, division by coefficients, `.powi(k)` with a literal k >= 0, `D(e, n)`, and \
+     forcing `cos(k * omega * t)` / `sin(k * omega * t)`";
+
+/// Where a subexpression holds a DOF-dependent and a forcing term, if it does: what the
+/// checks of products, quotients and powers look at, and where their messages point.
+#[derive(Debug, Clone, Copy, Default)]
+struct Info {
+    dof: Option<Sp>,
+    forcing: Option<Sp>,
+}
+
+/// The lowering of one model: the names declared so far, the signals met so far, and
+/// the lowered aliases.
+pub struct Lower<'a> {
+    lets: &'a [LetDecl],
+    scope: Scope,
+    signals: Vec<SignalKey>,
+    aliases: Vec<(Node, Info)>,
+}
+
+impl<'a> Lower<'a> {
+    /// Lowering with `scope` (parameters and DOFs declared); aliases come from `lets`.
+    pub fn new(lets: &'a [LetDecl], scope: Scope) -> Self {
+        Lower { lets, scope, signals: Vec::new(), aliases: Vec::new() }
+    }
+
+    /// Lower alias `i`, then declare its name (so it sees only earlier names).
+    pub fn alias(&mut self, i: usize) -> syn::Result<()> {
+        let lets = self.lets;
+        let l = &lets[i];
+        let converted = self.value(&l.expr)?;
+        self.aliases.push(converted);
+        self.scope.declare(&l.name, Name::Alias(i))
+    }
+
+    /// The residual tree `lhs - rhs` of an equation, which must involve some DOF.
+    pub fn equation(&mut self, eq: &Equation) -> syn::Result<Node> {
+        let (l, li) = self.value(&eq.lhs)?;
+        let (r, ri) = self.value(&eq.rhs)?;
+        if li.dof.is_none() && ri.dof.is_none() {
+            return err(
+                Sp::of(&eq.lhs),
+                format!(
+                    "equation `{} = {}` does not involve any DOF",
+                    show(&eq.lhs),
+                    show(&eq.rhs)
+                ),
+            );
+        }
+        Ok(match r {
+            Node::Lit(0.0) => l,
+            r => Node::Sub(Box::new(l), Box::new(r)),
+        })
+    }
+
+    /// The signals met and the aliases lowered, none marked used yet.
+    pub fn finish(self) -> (Vec<SignalKey>, Vec<Alias>) {
+        let aliases = self.aliases.into_iter().map(|(node, _)| Alias { node, used: false });
+        (self.signals, aliases.collect())
+    }
+
+    /// Reads linear forms with the names declared so far.
+    pub fn linear(&self) -> LinearReader<'_> {
+        LinearReader { scope: &self.scope, lets: self.lets }
+    }
+
+    fn signal(&mut self, key: SignalKey) -> usize {
+        if let Some(i) = self.signals.iter().position(|s| *s == key) {
+            return i;
+        }
+        self.signals.push(key);
+        self.signals.len() - 1
+    }
+
+    /// `D(e, n)`: split the linear form of `e` into signals with literal coefficients,
+    /// parameter factors pulled outside.
+    fn derivative(&mut self, c: &syn::ExprCall) -> syn::Result<(Node, Info)> {
+        if c.args.len() != 2 {
+            return err(
+                Sp::of(&c),
+                "`D` takes two arguments: `D(e, n)` with e linear in the DOFs and n an \
+                 integer literal or a parameter name",
+            );
+        }
+        let (e, n) = (&c.args[0], &c.args[1]);
+        let order = self.order(n)?;
+        let lin = self.linear().read(e)?;
+        if !lin.konst.is_zero() {
+            return err(
+                lin.konst_span.unwrap_or_else(|| Sp::of(&e)),
+                format!(
+                    "`D(e, n)` needs e to be a linear combination of DOFs without a constant \
+                     term; `{}` has one",
+                    show(e)
+                ),
+            );
+        }
+        let mut node: Option<Node> = None;
+        for Group { atoms, scale, terms } in lin.signal_groups() {
+            let s = Node::Signal(self.signal(SignalKey { terms, order }));
+            let term = scaled(s, &atoms, scale);
+            node = Some(match node {
+                Some(n) => Node::Add(Box::new(n), Box::new(term)),
+                None => term,
+            });
+        }
+        let Some(node) = node else {
+            return err(Sp::of(&e), format!("`D({}, ...)` has no DOF term", show(e)));
+        };
+        Ok((node, Info { dof: Some(Sp::of(&c)), forcing: None }))
+    }
+
+    /// The order `n` of `D(e, n)`: an integer literal or a parameter.
+    fn order(&self, n: &Expr) -> syn::Result<OrderKey> {
+        let order_msg = "the order of `D(e, n)` must be an integer literal (0, 1, 2, ...) or a \
+                         parameter name (a fractional order)";
+        match strip(n) {
+            Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => match i.base10_parse::<u32>() {
+                Ok(k) => Ok(OrderKey::Int(k)),
+                Err(_) => err(Sp::of(&i), order_msg),
+            },
+            Expr::Lit(syn::ExprLit { lit: Lit::Float(f), .. }) => err(
+                Sp::of(&f),
+                format!(
+                    "{order_msg}; for a fractional order declare a parameter, e.g. \
+                     `p = {}`, and write `D(e, p)`",
+                    f.base10_digits()
+                ),
+            ),
+            other => match ident_of(other) {
+                Some(ident) => match self.scope.lookup(ident)? {
+                    Name::Param(i) => Ok(OrderKey::Param(i)),
+                    name => {
+                        err(Sp::of(&ident), format!("{order_msg}; `{ident}` is {}", name.kind()))
+                    }
+                },
+                None => err(Sp::of(&other), order_msg),
+            },
+        }
+    }
+
+    /// Convert an expression in value context, checking that it is polynomial.
+    fn value(&mut self, e: &Expr) -> syn::Result<(Node, Info)> {
+        match e {
+            Expr::Paren(p) => self.value(&p.expr),
+            Expr::Group(g) => self.value(&g.expr),
+            Expr::Lit(l) => Ok((Node::Lit(literal_value(&l.lit)?), Info::default())),
+            Expr::Path(_) => self.name(e),
+            Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
+                let (n, i) = self.value(&u.expr)?;
+                Ok((Node::Neg(Box::new(n)), i))
+            }
+            Expr::Binary(b) => self.binary(b),
+            Expr::MethodCall(m) => self.method(e, m),
+            Expr::Call(c) => self.call(e, c),
+            other => err(
+                Sp::of(&other),
+                format!("`{}` is not allowed in oscillator!: {ALLOWED}", show(other)),
+            ),
+        }
+    }
+
+    /// A name in value context: `omega`, a parameter, a DOF (its signal of order 0) or
+    /// an alias.
+    fn name(&mut self, e: &Expr) -> syn::Result<(Node, Info)> {
+        let Some(ident) = ident_of(e) else {
+            return err(
+                Sp::of(&e),
+                format!("unknown name `{}`: use plain names declared above", show(e)),
+            );
+        };
+        if ident == "omega" {
+            return Ok((Node::Omega, Info::default()));
+        }
+        match self.scope.lookup(ident)? {
+            Name::Param(i) => Ok((Node::Param(i), Info::default())),
+            Name::Dof(i) => {
+                let s = self.signal(SignalKey { terms: vec![(i, 1.0)], order: OrderKey::Int(0) });
+                Ok((Node::Signal(s), Info { dof: Some(Sp::of(&ident)), forcing: None }))
+            }
+            Name::Alias(i) => {
+                let info = self.aliases[i].1;
+                // Point messages at this use, not at the alias's definition.
+                let at = Sp::of(&ident);
+                let info = Info { dof: info.dof.map(|_| at), forcing: info.forcing.map(|_| at) };
+                Ok((Node::Alias(i), info))
+            }
+        }
+    }
+
+    /// `e` is `m`: `.powi(k)`, or forcing written `(k * omega * t).cos()`.
+    fn method(&mut self, e: &Expr, m: &syn::ExprMethodCall) -> syn::Result<(Node, Info)> {
+        let name = m.method.to_string();
+        if name == "powi" {
+            let k = powi_exponent(m)?;
+            let (n, i) = self.value(&m.receiver)?;
+            if k >= 2 {
+                if let Some(f) = i.forcing {
+                    return err(
+                        f,
+                        format!(
+                            "`{}` raises forcing to a power: forcing may only be \
+                             multiplied by coefficients; write products of harmonics \
+                             as a sum of harmonics",
+                            show(e)
+                        ),
+                    );
+                }
+            }
+            if k == 0 {
+                return Ok((Node::Lit(1.0), Info::default()));
+            }
+            return Ok((Node::Powi(Box::new(n), k), i));
+        }
+        if (name == "cos" || name == "sin") && m.args.is_empty() {
+            let k = harmonic(&m.receiver, Sp::of(&e), &show(e))?;
+            return self.forcing(&name, k, Sp::of(&e));
+        }
+        err(
+            Sp::of(&m.method),
+            format!(
+                "`.{name}(...)` is not allowed: only `.powi(k)` with an integer literal \
+                 k >= 0 keeps the model polynomial"
+            ),
+        )
+    }
+
+    /// `e` is `c`: `D(e, n)` or forcing `cos/sin(k * omega * t)`.
+    fn call(&mut self, e: &Expr, c: &syn::ExprCall) -> syn::Result<(Node, Info)> {
+        let Some(f) = ident_of(&c.func) else {
+            return err(Sp::of(&c.func), format!("unsupported function: {ALLOWED}"));
+        };
+        let fname = f.to_string();
+        match fname.as_str() {
+            "D" => self.derivative(c),
+            "cos" | "sin" => {
+                if c.args.len() != 1 {
+                    return err(Sp::of(&c), format!("`{fname}` takes one argument"));
+                }
+                let k = harmonic(&c.args[0], Sp::of(&c), &show(e))?;
+                self.forcing(&fname, k, Sp::of(&c))
+            }
+            _ => err(
+                Sp::of(&f),
+                format!(
+                    "unknown function `{fname}`: the only functions are `D(e, n)`, \
+                     `cos(k * omega * t)` and `sin(k * omega * t)`"
+                ),
+            ),
+        }
+    }
+
+    fn forcing(&self, name: &str, k: u32, span: Sp) -> syn::Result<(Node, Info)> {
+        let trig = if name == "cos" { Trig::Cos } else { Trig::Sin };
+        Ok((Node::Forcing(trig, k), Info { dof: None, forcing: Some(span) }))
+    }
+
+    fn binary(&mut self, b: &syn::ExprBinary) -> syn::Result<(Node, Info)> {
+        let (l, li) = self.value(&b.left)?;
+        let (r, ri) = self.value(&b.right)?;
+        let sum = Info { dof: li.dof.or(ri.dof), forcing: li.forcing.or(ri.forcing) };
+        let (l, r) = (Box::new(l), Box::new(r));
+        match b.op {
+            BinOp::Add(_) => Ok((Node::Add(l, r), sum)),
+            BinOp::Sub(_) => Ok((Node::Sub(l, r), sum)),
+            BinOp::Mul(_) => {
+                for (f, d) in [(li.forcing, ri.dof), (ri.forcing, li.dof)] {
+                    if let (Some(f), Some(_)) = (f, d) {
+                        return err(
+                            f,
+                            format!(
+                                "forcing multiplied by a DOF-dependent term in `{}`: forcing \
+                                 `cos(k * omega * t)` / `sin(k * omega * t)` may only be \
+                                 multiplied by coefficients (parameters, literals, omega)",
+                                show(&Expr::Binary(b.clone()))
+                            ),
+                        );
+                    }
+                }
+                if let (Some(f), Some(_)) = (li.forcing, ri.forcing) {
+                    return err(
+                        f,
+                        format!(
+                            "product of two forcing terms in `{}`: write it as a sum of \
+                             harmonics `cos(k * omega * t)` / `sin(k * omega * t)`",
+                            show(&Expr::Binary(b.clone()))
+                        ),
+                    );
+                }
+                Ok((Node::Mul(l, r), sum))
+            }
+            BinOp::Div(_) => {
+                if ri.dof.is_some() || ri.forcing.is_some() {
+                    return err(
+                        Sp::of(&b.right),
+                        format!(
+                            "division by `{}` is not allowed: divide only by coefficients \
+                             (parameters, literals, omega) to keep the model polynomial",
+                            show(&b.right)
+                        ),
+                    );
+                }
+                if matches!(*r, Node::Lit(v) if v == 0.0) {
+                    return err(Sp::of(&b.right), "division by zero");
+                }
+                Ok((Node::Div(l, r), sum))
+            }
+            BinOp::BitXor(_) => err(
+                Sp::of(&b.op),
+                format!(
+                    "`^` is XOR in Rust, not a power (and it binds looser than `+` and `*`): \
+                     write `base.powi(k)`, e.g. `y.powi({})`",
+                    show(&b.right)
+                ),
+            ),
+            _ => err(
+                Sp::of(&b.op),
+                format!("operator `{}` is not allowed: {ALLOWED}", b.op.to_token_stream()),
+            ),
+        }
+    }
+}
+
+/// `scale · Π atom^power · s` as a tree: positive powers multiply, negative ones divide,
+/// and a scale of ±1 writes no literal.
+fn scaled(s: Node, atoms: &BTreeMap<Atom, i32>, scale: f64) -> Node {
+    let mut factor: Option<Node> = None;
+    let mut divisor: Option<Node> = None;
+    for (atom, pow) in atoms {
+        let base = match atom {
+            Atom::Param(i) => Node::Param(*i),
+            Atom::Omega => Node::Omega,
+        };
+        let p = Node::Powi(Box::new(base), pow.unsigned_abs());
+        let slot = if *pow > 0 { &mut factor } else { &mut divisor };
+        *slot = Some(match slot.take() {
+            Some(f) => Node::Mul(Box::new(f), Box::new(p)),
+            None => p,
+        });
+    }
+    let mut term = match factor {
+        Some(f) => Node::Mul(Box::new(f), Box::new(s)),
+        None => s,
+    };
+    if let Some(d) = divisor {
+        term = Node::Div(Box::new(term), Box::new(d));
+    }
+    if scale == -1.0 {
+        term = Node::Neg(Box::new(term));
+    } else if scale != 1.0 {
+        term = Node::Mul(Box::new(Node::Lit(scale)), Box::new(term));
+    }
+    term
+}

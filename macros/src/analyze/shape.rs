@@ -1,0 +1,153 @@
+//! Shape analysis of the lowered model: its polynomial degree in the signals, its
+//! highest forcing harmonic, the signals every equation is affine in (constant
+//! gradient over a period, so the solvers may skip their sampling), and whether Ω
+//! appears other than inside the forcing. All are read off the trees, conservatively.
+
+use super::tree::{Analysis, Node};
+use std::collections::BTreeSet;
+
+/// What a subtree is: which signals it contains, which of them it is not affine in
+/// (with a coefficient free of signals and time), whether it varies in time or uses Ω,
+/// its degree in the signals and its highest forcing harmonic.
+#[derive(Debug, Clone, Default)]
+struct Shape {
+    present: BTreeSet<usize>,
+    nonaffine: BTreeSet<usize>,
+    timed: bool,
+    omega: bool,
+    degree: u32,
+    max_k: u32,
+}
+
+impl Shape {
+    /// The shape of a sum.
+    fn union(mut self, o: &Shape) -> Shape {
+        self.present.extend(&o.present);
+        self.nonaffine.extend(&o.nonaffine);
+        self.timed |= o.timed;
+        self.omega |= o.omega;
+        self.degree = self.degree.max(o.degree);
+        self.max_k = self.max_k.max(o.max_k);
+        self
+    }
+}
+
+/// The shape of `n`, conservatively: a signal multiplied by anything that holds a
+/// signal or varies in time counts as non-affine even if terms cancel (that only costs
+/// speed; the converse would give wrong Jacobians), and so does the degree.
+fn shape(n: &Node, aliases: &[Shape]) -> Shape {
+    match n {
+        Node::Lit(_) | Node::Param(_) => Shape::default(),
+        Node::Omega => Shape { omega: true, ..Shape::default() },
+        Node::Forcing(_, k) => Shape { timed: true, max_k: *k, ..Shape::default() },
+        Node::Signal(s) => Shape { present: BTreeSet::from([*s]), degree: 1, ..Shape::default() },
+        Node::Alias(i) => aliases[*i].clone(),
+        Node::Neg(a) => shape(a, aliases),
+        Node::Add(a, b) | Node::Sub(a, b) => shape(a, aliases).union(&shape(b, aliases)),
+        Node::Mul(a, b) | Node::Div(a, b) => {
+            let (sa, sb) = (shape(a, aliases), shape(b, aliases));
+            let mut out = sa.clone().union(&sb);
+            for (x, y) in [(&sa, &sb), (&sb, &sa)] {
+                if !y.present.is_empty() || y.timed {
+                    out.nonaffine.extend(&x.present);
+                }
+            }
+            if matches!(n, Node::Mul(..)) {
+                out.degree = sa.degree + sb.degree;
+            }
+            out
+        }
+        Node::Powi(a, k) => match *k {
+            0 => Shape::default(),
+            1 => shape(a, aliases),
+            _ => {
+                let mut s = shape(a, aliases);
+                let p = s.present.clone();
+                s.nonaffine.extend(p);
+                s.degree *= k;
+                s
+            }
+        },
+    }
+}
+
+/// The model's shape, as the `Model` impl reports it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelShape {
+    /// Polynomial degree in the signals (at least 1).
+    pub degree: u32,
+    /// Highest forcing harmonic `k` of `cos/sin(k * omega * t)`; 0 if unforced.
+    pub max_harmonic: u32,
+    /// Per signal: every equation is affine in it with a signal- and time-free
+    /// coefficient (its gradient is constant over a period).
+    pub affine: Vec<bool>,
+    /// Whether some equation uses `omega` other than inside `cos/sin(k * omega * t)`.
+    pub explicit_omega: bool,
+}
+
+impl Analysis {
+    /// The shape of the equations (aliases counted where they are used).
+    pub fn shape(&self) -> ModelShape {
+        let mut aliases: Vec<Shape> = Vec::with_capacity(self.aliases.len());
+        for alias in &self.aliases {
+            let s = shape(&alias.node, &aliases);
+            aliases.push(s);
+        }
+        let s =
+            self.equations.iter().fold(Shape::default(), |acc, e| acc.union(&shape(e, &aliases)));
+        ModelShape {
+            degree: s.degree.max(1),
+            max_harmonic: s.max_k,
+            affine: (0..self.signals.len()).map(|i| !s.nonaffine.contains(&i)).collect(),
+            explicit_omega: s.omega,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::analyze::analyze;
+    use crate::analyze::shape::ModelShape;
+
+    /// The shape of a one- or two-DOF model with these equations (signals: x = 0, y = 1
+    /// when both are used in that order).
+    fn shape_of(equations: &str) -> ModelShape {
+        let src = format!(
+            "struct S {{ params {{ a = 1.0, p = 0.5 }} dofs {{ x, y }} let v = x * y;
+               equations {{ {equations} }} }}"
+        );
+        analyze(&syn::parse_str(&src).unwrap()).unwrap().shape()
+    }
+
+    #[test]
+    fn degree_is_the_highest_product_order() {
+        assert_eq!(shape_of("a * x + y = 0.0; y = 0.0;").degree, 1);
+        assert_eq!(shape_of("x * y.powi(2) = 0.0; y = x / a;").degree, 3);
+        // An alias counts where it is used: v = x y, so v.powi(2) has degree 4.
+        assert_eq!(shape_of("v.powi(2) + x = 0.0; y = 0.0;").degree, 4);
+        // .powi(0) is the constant 1.
+        assert_eq!(shape_of("x.powi(0) + x = 0.0; y = 0.0;").degree, 1);
+    }
+
+    #[test]
+    fn max_harmonic_is_the_highest_forcing_k() {
+        assert_eq!(shape_of("x = 0.0; y = 0.0;").max_harmonic, 0);
+        let s = shape_of("x = a * cos(omega * t) + sin(3 * omega * t); y = cos(2 * omega * t);");
+        assert_eq!(s.max_harmonic, 3);
+    }
+
+    #[test]
+    fn affine_signals_have_constant_coefficients() {
+        // x multiplies y: neither is affine; D(x, 1) is scaled by a parameter and Ω.
+        let s = shape_of("a * omega * D(x, 1) + x * y = cos(omega * t); y = 0.0;");
+        // Signals in first use: D(x, 1), x, y.
+        assert_eq!(s.affine, [true, false, false]);
+        assert!(s.explicit_omega);
+        // Forcing alone does not make a signal non-affine, nor is its Ω explicit.
+        let s = shape_of("x + D(y, p) = cos(omega * t); y = 0.0;");
+        assert_eq!(s.affine, [true, true, true]);
+        assert!(!s.explicit_omega);
+        // A cube is not affine.
+        assert_eq!(shape_of("x.powi(3) + y = 0.0; y = 0.0;").affine, [false, true]);
+    }
+}

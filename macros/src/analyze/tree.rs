@@ -1,0 +1,95 @@
+//! The analysed model: one residual tree per equation over numbered signals, shared
+//! alias trees, and the outputs. Checking ends here; code generation (or any other
+//! reader of a model) starts here and needs no `syn`.
+
+/// A linear combination `Σ coef · x_dof` with literal coefficients.
+pub type Terms = Vec<(usize, f64)>;
+
+/// The derivative order of a signal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OrderKey {
+    Int(u32),
+    Param(usize),
+}
+
+/// `D^order (Σ coef · x_dof)`, literal coefficients.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SignalKey {
+    pub terms: Terms,
+    pub order: OrderKey,
+}
+
+/// Forcing functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Trig {
+    Cos,
+    Sin,
+}
+
+/// The resolved expression tree the residual is generated from.
+#[derive(Debug, Clone)]
+pub enum Node {
+    Lit(f64),
+    Param(usize),
+    Omega,
+    Signal(usize),
+    /// The value of alias `i` (its tree is in `Analysis::aliases`).
+    Alias(usize),
+    /// `cos/sin(k * omega * t)`.
+    Forcing(Trig, u32),
+    Add(Box<Node>, Box<Node>),
+    Sub(Box<Node>, Box<Node>),
+    Mul(Box<Node>, Box<Node>),
+    Div(Box<Node>, Box<Node>),
+    Neg(Box<Node>),
+    Powi(Box<Node>, u32),
+}
+
+impl Node {
+    /// Calls `f` on each direct subtree, left to right (an alias is a leaf here).
+    pub fn for_each_child<'a>(&'a self, mut f: impl FnMut(&'a Node)) {
+        match self {
+            Node::Add(x, y) | Node::Sub(x, y) | Node::Mul(x, y) | Node::Div(x, y) => {
+                f(x);
+                f(y);
+            }
+            Node::Neg(x) | Node::Powi(x, _) => f(x),
+            Node::Lit(_)
+            | Node::Param(_)
+            | Node::Omega
+            | Node::Signal(_)
+            | Node::Alias(_)
+            | Node::Forcing(..) => {}
+        }
+    }
+
+    /// [`Node::for_each_child`], mutably.
+    pub fn for_each_child_mut(&mut self, mut f: impl FnMut(&mut Node)) {
+        match self {
+            Node::Add(x, y) | Node::Sub(x, y) | Node::Mul(x, y) | Node::Div(x, y) => {
+                f(x);
+                f(y);
+            }
+            Node::Neg(x) | Node::Powi(x, _) => f(x),
+            _ => {}
+        }
+    }
+}
+
+/// A `let` alias: its tree, and whether the residual uses it.
+#[derive(Debug, Clone)]
+pub struct Alias {
+    pub node: Node,
+    pub used: bool,
+}
+
+/// The analysed model.
+pub struct Analysis {
+    pub signals: Vec<SignalKey>,
+    /// Aliases in declaration order (an alias refers only to earlier ones).
+    pub aliases: Vec<Alias>,
+    /// One residual tree per equation (`lhs - rhs`).
+    pub equations: Vec<Node>,
+    /// `(name, terms)` per output.
+    pub outputs: Vec<(String, Terms)>,
+}

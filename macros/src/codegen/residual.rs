@@ -1,0 +1,181 @@
+//! The residual: emitted from the alias-expanded trees as straight-line code over locals
+//! (parameters, signals, `cos/sin(k·phase)` in f64, each used alias computed once), so
+//! one sample costs what a hand-written residual costs and allocates nothing.
+
+use super::float;
+use crate::analyze::{Analysis, Node, Trig};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote, ToTokens};
+
+/// Whether a generated expression is a plain `f64` or the dual type.
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    Const,
+    Dual,
+}
+
+/// `fn residual`, generic over the dual type.
+pub fn residual(a: &Analysis) -> TokenStream {
+    let locals = locals(&uses(a));
+    let (alias_kinds, alias_lets) = aliases(a);
+    let outs = a.equations.iter().enumerate().map(|(i, n)| {
+        let (code, kind) = expr(n, &alias_kinds);
+        if kind == Kind::Const {
+            quote!(__out[#i] = __IhbmD::from(#code);)
+        } else {
+            quote!(__out[#i] = #code;)
+        }
+    });
+    let nout = a.equations.len();
+    quote! {
+        #[inline]
+        #[allow(unused_variables, unused_parens, clippy::all)]
+        fn residual<__IhbmD: ::ihbm::num_dual::DualNum<Primitive = f64> + Copy>(
+            &self,
+            __params: &[__IhbmD],
+            __omega: __IhbmD,
+            __phase: f64,
+            __signals: &[__IhbmD],
+            __out: &mut [__IhbmD],
+        ) {
+            let __out = &mut __out[..#nout];
+            #locals
+            #(#alias_lets)*
+            #(#outs)*
+        }
+    }
+}
+
+/// What the residual body needs declared up front.
+#[derive(Default)]
+struct Uses {
+    params: Vec<usize>,
+    signals: Vec<usize>,
+    forcing: Vec<(Trig, u32)>,
+}
+
+/// The parameters, signals and forcing terms the equations and used aliases read, sorted.
+fn uses(a: &Analysis) -> Uses {
+    fn collect(n: &Node, u: &mut Uses) {
+        fn add<T: PartialEq>(v: &mut Vec<T>, x: T) {
+            if !v.contains(&x) {
+                v.push(x)
+            }
+        }
+        match n {
+            Node::Param(i) => add(&mut u.params, *i),
+            Node::Signal(i) => add(&mut u.signals, *i),
+            Node::Forcing(t, k) => add(&mut u.forcing, (*t, *k)),
+            other => other.for_each_child(|c| collect(c, u)),
+        }
+    }
+    let mut uses = Uses::default();
+    for eq in &a.equations {
+        collect(eq, &mut uses);
+    }
+    for alias in a.aliases.iter().filter(|x| x.used) {
+        collect(&alias.node, &mut uses);
+    }
+    uses.params.sort_unstable();
+    uses.signals.sort_unstable();
+    uses.forcing.sort_unstable();
+    uses
+}
+
+/// `let` statements for the parameters, signals and forcing terms used.
+fn locals(uses: &Uses) -> TokenStream {
+    let param_lets = uses.params.iter().map(|i| {
+        let id = format_ident!("__p{}", i);
+        quote!(let #id = __params[#i];)
+    });
+    let signal_lets = uses.signals.iter().map(|i| {
+        let id = format_ident!("__s{}", i);
+        quote!(let #id = __signals[#i];)
+    });
+    let forcing_lets = uses.forcing.iter().map(|(t, k)| {
+        let arg = if *k == 1 {
+            quote!(__phase)
+        } else {
+            let kf = float(*k as f64);
+            quote!((#kf * __phase))
+        };
+        match t {
+            Trig::Cos => {
+                let id = format_ident!("__cos{}", k);
+                quote!(let #id: f64 = #arg.cos();)
+            }
+            Trig::Sin => {
+                let id = format_ident!("__sin{}", k);
+                quote!(let #id: f64 = #arg.sin();)
+            }
+        }
+    });
+    quote!(#(#param_lets)* #(#signal_lets)* #(#forcing_lets)*)
+}
+
+/// The kind of every alias, and a `let` for each used one.
+fn aliases(a: &Analysis) -> (Vec<Kind>, Vec<TokenStream>) {
+    let mut alias_kinds = Vec::new();
+    let mut alias_lets = Vec::new();
+    for (i, alias) in a.aliases.iter().enumerate() {
+        let (code, kind) = expr(&alias.node, &alias_kinds);
+        alias_kinds.push(kind);
+        if alias.used {
+            let id = format_ident!("__a{}", i);
+            alias_lets.push(quote!(let #id = #code;));
+        }
+    }
+    (alias_kinds, alias_lets)
+}
+
+/// Code for `n` and its kind. Forcing and literals stay `f64`: `DualNum` implements
+/// `dual op f64` but not `f64 op dual`, so a constant left operand is moved right.
+fn expr(n: &Node, alias_kinds: &[Kind]) -> (TokenStream, Kind) {
+    type Op = fn(&TokenStream, &TokenStream) -> TokenStream;
+    // `a op b` from its operands; `swapped` writes the same for a constant `a` and dual `b`.
+    let bin = |x: &Node, y: &Node, plain: Op, swapped: Op| {
+        let ((a, ka), (b, kb)) = (expr(x, alias_kinds), expr(y, alias_kinds));
+        match (ka, kb) {
+            (Kind::Const, Kind::Dual) => (swapped(&a, &b), Kind::Dual),
+            (Kind::Const, Kind::Const) => (plain(&a, &b), Kind::Const),
+            _ => (plain(&a, &b), Kind::Dual),
+        }
+    };
+    match n {
+        Node::Lit(v) => (float(*v), Kind::Const),
+        Node::Param(i) => (format_ident!("__p{}", i).into_token_stream(), Kind::Dual),
+        Node::Omega => (quote!(__omega), Kind::Dual),
+        Node::Signal(i) => (format_ident!("__s{}", i).into_token_stream(), Kind::Dual),
+        Node::Alias(i) => (format_ident!("__a{}", i).into_token_stream(), alias_kinds[*i]),
+        Node::Forcing(t, k) => {
+            let name = match t {
+                Trig::Cos => format_ident!("__cos{}", k),
+                Trig::Sin => format_ident!("__sin{}", k),
+            };
+            (name.into_token_stream(), Kind::Const)
+        }
+        Node::Neg(x) => {
+            let (t, k) = expr(x, alias_kinds);
+            (quote!((-#t)), k)
+        }
+        Node::Add(x, y) => bin(x, y, |a, b| quote!((#a + #b)), |a, b| quote!((#b + #a))),
+        Node::Sub(x, y) => bin(x, y, |a, b| quote!((#a - #b)), |a, b| quote!((-#b + #a))),
+        Node::Mul(x, y) => bin(x, y, |a, b| quote!((#a * #b)), |a, b| quote!((#b * #a))),
+        Node::Div(x, y) => bin(x, y, |a, b| quote!((#a / #b)), |a, b| quote!((#b.recip() * #a))),
+        Node::Powi(x, k) => {
+            let (t, kind) = expr(x, alias_kinds);
+            let code = match k {
+                0 => return (float(1.0), Kind::Const),
+                1 => t,
+                2 => quote!({ let __t = #t; __t * __t }),
+                3 => quote!({ let __t = #t; __t * __t * __t }),
+                4 => quote!({ let __t = #t; let __t2 = __t * __t; __t2 * __t2 }),
+                _ => {
+                    let k = *k as i32;
+                    quote!(#t.powi(#k))
+                }
+            };
+            (code, kind)
+        }
+    }
+}
