@@ -7,6 +7,7 @@
 pub mod csv;
 pub mod json;
 pub mod plot;
+pub mod smooth;
 pub mod summary;
 
 use crate::error::Error;
