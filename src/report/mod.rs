@@ -6,6 +6,7 @@
 
 pub mod csv;
 pub mod json;
+pub mod legend;
 pub mod plot;
 pub mod smooth;
 pub mod summary;
