@@ -140,7 +140,8 @@ impl Spline {
     }
 
     /// Interval `i` as a polyline: its two nodes exactly as given, with points in between
-    /// about `spacing` pixels apart (none if the chord is shorter; at most 64).
+    /// about `spacing` pixels apart (none if the chord is shorter; at most 64). Panics if
+    /// `i` is out of range, as indexing does.
     pub fn interval(&self, i: usize, spacing: f64) -> Vec<Point> {
         let pieces =
             if spacing > 0.0 { (self.h[i] / spacing).ceil().clamp(1.0, 64.0) } else { 1.0 };
