@@ -6,7 +6,9 @@
 
 pub mod csv;
 pub mod json;
+pub mod legend;
 pub mod plot;
+pub mod smooth;
 pub mod summary;
 
 use crate::error::Error;
