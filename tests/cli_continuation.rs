@@ -446,3 +446,58 @@ fn unrefined_stability_verdicts_are_counted_and_announced() {
     assert!(text.contains(&warning), "{text}");
     assert!(!stdout(&ihbm(&base)).contains("warning"));
 }
+
+/// Sweeps over ranges of many decades: every point finite and inside the range (the
+/// model is never evaluated outside it), segments that end at finite values, and no
+/// jump between two copies of one branch.
+#[test]
+fn wide_ranges_give_finite_points_inside_the_range() {
+    for line in [
+        "sweep fractional-duffing --from 1e-3 --to 1e4 --json",
+        "sweep base-excited --from 1e-4 --to 1e3 --json",
+        "sweep duffing --from 1e-6 --to 1e6 --json",
+    ] {
+        let v = json(&words(line));
+        let range: Vec<f64> =
+            line.split_whitespace().filter_map(|w| w.parse::<f64>().ok()).collect();
+        assert_eq!(f(&v["segments"][0], "from_omega"), range[0], "{line}");
+        assert!(!points(&v).is_empty(), "{line}");
+        for p in points(&v) {
+            let w = f(p, "omega");
+            assert!(w >= range[0] * (1.0 - 1e-12) && w <= range[1] * (1.0 + 1e-12), "{line}: {p}");
+            for o in p["outputs"].as_object().unwrap().values() {
+                for key in ["max_abs", "mean", "amp1"] {
+                    assert!(o[key].as_f64().is_some_and(f64::is_finite), "{line}: {p}");
+                }
+            }
+        }
+        for s in v["segments"].as_array().unwrap() {
+            assert!(f(s, "from_omega").is_finite() && f(s, "to_omega").is_finite(), "{line}: {s}");
+        }
+        for j in v["jumps"].as_array().unwrap() {
+            let (a, b) = (f(j, "from"), f(j, "to"));
+            assert!((a - b).abs() > 1e-6 * a.abs().max(b.abs()), "{line}: {j}");
+        }
+    }
+}
+
+/// A sweep that traces no point fails (exit 1, one line with the segments' reasons)
+/// and still writes its JSON; a tiny force is no reason to fail: in the linear regime
+/// the response scales exactly with it.
+#[test]
+fn a_sweep_with_no_point_fails_and_tiny_forces_scale() {
+    let o = ihbm(&words("sweep duffing --from 1 --to 3 --set F=1e20 --json"));
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim_end().lines().count(), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("no point"), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert!(points(&v).is_empty() && !v["segments"].as_array().unwrap().is_empty());
+
+    let a = json(&words("sweep duffing --from 1 --to 3 --set F=1e-20 --json"));
+    let b = json(&words("sweep duffing --from 1 --to 3 --set F=1e-14 --json"));
+    assert_eq!(points(&a).len(), points(&b).len());
+    for (p, q) in points(&a).iter().zip(points(&b)) {
+        let ratio = x_max(q) / x_max(p);
+        assert!((ratio / 1e6 - 1.0).abs() < 1e-9, "Ω = {}: ratio {ratio}", p["omega"]);
+    }
+}

@@ -132,6 +132,14 @@ fn write_curve(
     if let Some(path) = &files.csv {
         report::write_file(path, &report::curve_csv(curve)).map_err(Failure::failed)?;
     }
+    if curve.points.is_empty() {
+        // Nothing to draw; the JSON still says why each segment ended.
+        if let Some(target) = files.json.as_deref() {
+            emit_json(&report::sweep_json(curve), target, out)?;
+        }
+        let why: Vec<String> = curve.segments.iter().map(|s| s.ended.to_string()).collect();
+        return Err(Failure::failed(format!("the sweep produced no point ({})", why.join("; "))));
+    }
     if let Some(path) = &files.plot {
         let panels = curve
             .output_names

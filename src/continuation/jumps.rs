@@ -154,6 +154,11 @@ fn walk(
                     .zip(&vi.amps)
                     .map(|(p, q)| (p - q).abs() / (p.abs() + q.abs()).max(f64::MIN_POSITIVE))
                     .sum();
+                // The same branch traced again by the other segment is no place to
+                // land: a jump goes to a different response.
+                if dist < 1e-6 {
+                    continue;
+                }
                 if best.as_ref().is_none_or(|b| dist < b.0) {
                     best = Some((dist, l2, k, amps, w));
                 }

@@ -137,10 +137,15 @@ impl<'m, M: Model> Continuation<'m, M> {
         let mut tr = Tracer::new(bal, axis, opts.tol, opts.max_iter);
         let n = tr.n;
         tr.sl = hi - lo;
+        tr.range = (lo, hi);
         // Reference force: the residual at zero response (the forcing).
         let sr = tr.reference_force(lo).max(tr.reference_force(hi));
         tr.sr = if sr > 0.0 && sr.is_finite() { sr } else { 1.0 };
-        // Reference amplitude: the linearised response over the range.
+        // Reference amplitude: the linearised response over the range, solved in
+        // units of the reference force (unit stiffness as the first guess), so that the
+        // bordered matrix is balanced whatever the force's size (with the coefficients
+        // unscaled, a force of 1e-14 left the matrix looking singular).
+        tr.sa = tr.sr;
         let mut sa = 0.0f64;
         let mut y = vec![0.0; n + 1];
         let e_n = unit(n);
@@ -150,7 +155,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             y.fill(0.0);
             y[n] = lam / tr.sl;
             if tr.newton_step(&mut y, &e_n, lam / tr.sl).is_ok() {
-                sa = sa.max(y[..n].iter().fold(0.0, |m: f64, v| m.max(v.abs())));
+                sa = sa.max(tr.sa * y[..n].iter().fold(0.0, |m: f64, v| m.max(v.abs())));
             }
         }
         tr.sa = if sa > 0.0 && sa.is_finite() { sa } else { 1.0 };
@@ -361,6 +366,13 @@ impl<'m, M: Model> Continuation<'m, M> {
                 )));
             }
             self.predict(first, h, &mut y, &mut dirv);
+            // A prediction beyond the range: land on its end from inside instead of
+            // correcting out there (the model is never evaluated outside the range).
+            if y[n] > hi_s || y[n] < lo_s {
+                self.trace.stats.steps += 1;
+                let b = if y[n] > hi_s { hi_s } else { lo_s };
+                break Some(self.land_on_end(last, b, &y, &dirv, seg));
+            }
             let target = dot(&dirv, &self.nodes[last].y) + h;
             let it = match self.tr.correct(&mut y, &dirv, target) {
                 Ok(it) => it,
@@ -384,7 +396,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             // Left the range: land exactly on its end.
             if y[n] > hi_s || y[n] < lo_s {
                 let b = if y[n] > hi_s { hi_s } else { lo_s };
-                break Some(self.land_on_end(last, b, &y, &t, &dirv, h, seg));
+                break Some(self.land_on_end(last, b, &y, &dirv, seg));
             }
             if self.nodes[last].t[n] * t[n] < 0.0 {
                 self.locate_fold(last, &dirv, h, t[n]);
@@ -447,16 +459,14 @@ impl<'m, M: Model> Continuation<'m, M> {
         }
     }
 
-    /// Land the step that left the range on its end `b` (scaled); how the segment ends.
-    #[allow(clippy::too_many_arguments)]
+    /// Land the step that left the range (at `y`, predicted or corrected) on its end
+    /// `b` (scaled); how the segment ends.
     fn land_on_end(
         &mut self,
         last: usize,
         b: f64,
         y: &[f64],
-        t: &[f64],
         dirv: &[f64],
-        h: f64,
         seg: usize,
     ) -> SegmentEnd {
         let n = self.tr.n;
@@ -474,10 +484,9 @@ impl<'m, M: Model> Continuation<'m, M> {
                 self.accept(yb, tb, dirv.to_vec(), hb, seg);
                 SegmentEnd::ReachedEnd
             }
-            Err(why) => {
-                self.accept(y.to_vec(), t.to_vec(), dirv.to_vec(), h, seg);
-                SegmentEnd::Stalled(format!("could not land on the range end: {why}"))
-            }
+            // The point outside the range is not kept: the curve ends at the last
+            // node, inside.
+            Err(why) => SegmentEnd::Stalled(format!("could not land on the range end: {why}")),
         }
     }
 

@@ -33,6 +33,8 @@ pub(crate) struct Tracer<'m, M: Model> {
     pub sa: f64,
     pub sl: f64,
     pub sr: f64,
+    /// The range of the continuation parameter: nothing is evaluated outside it.
+    pub range: (f64, f64),
     pub tol: f64,
     pub max_iter: usize,
     /// Newton iterations, all calls together.
@@ -56,6 +58,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             sa: 1.0,
             sl: 1.0,
             sr: 1.0,
+            range: (f64::NEG_INFINITY, f64::INFINITY),
             tol,
             max_iter,
             iterations: 0,
@@ -110,39 +113,51 @@ impl<'m, M: Model> Tracer<'m, M> {
         self.r.iter().fold(0.0, |m: f64, v| m.max(v.abs()))
     }
 
-    /// Unscaled coefficients of `y` into `self.a`, the parameter into `bal`; Ω.
-    fn unscale(&mut self, y: &[f64]) -> f64 {
+    /// Unscaled coefficients of `y` into `self.a`, the parameter into `bal`; Ω. A
+    /// parameter outside the range being traced (an iterate that overshoots, or Ω
+    /// that would turn negative) is an error: the model is never evaluated there.
+    fn unscale(&mut self, y: &[f64]) -> Result<f64, String> {
         let n = self.n;
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * self.sa;
         }
         let lam = y[n] * self.sl;
-        match self.axis {
+        let (lo, hi) = self.range;
+        // The landing on the range end corrects onto it from inside; allow rounding.
+        let slack = 1e-9 * (hi - lo);
+        if !(lam >= lo - slack && lam <= hi + slack) {
+            return Err(format!("an iterate left the range [{lo}, {hi}] (at {lam:.6e})"));
+        }
+        Ok(match self.axis {
             Axis::Omega => lam,
             Axis::Param { index, omega } => {
                 self.bal.set_param(index, lam);
                 omega
             }
-        }
+        })
     }
 
-    /// `y -= rhs` (the solved update); its max-norm, which must be finite.
+    /// `y -= rhs` (the solved update); its max-norm, which must be finite. (`f64::max`
+    /// ignores a NaN, so every component is checked: a NaN update once passed for a
+    /// converged step and put NaN points on the curve.)
     fn apply(&self, y: &mut [f64], what: &str) -> Result<f64, String> {
         let mut dn = 0.0f64;
+        let mut finite = true;
         for (yi, &d) in y.iter_mut().zip(&self.rhs) {
             *yi -= d;
+            finite &= yi.is_finite();
             dn = dn.max(d.abs());
         }
-        if !dn.is_finite() {
-            return Err(format!("non-finite {what} at Ω = {:.6}", self.omega(y)));
+        if !(finite && dn.is_finite()) {
+            return Err(format!("non-finite {what} near Ω = {:.6}", self.omega(y)));
         }
         Ok(dn)
     }
 
     /// Fill the bordered matrix and the scaled residual at `y`.
-    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) {
+    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) -> Result<(), String> {
         let n = self.n;
-        let omega = self.unscale(y);
+        let omega = self.unscale(y)?;
         let mut k = self.lu.matrix_mut();
         self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
         match self.axis {
@@ -162,6 +177,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         }
         k[(n, n)] = border[n];
         self.rhs[n] = dot(border, y) - target;
+        Ok(())
     }
 
     /// One bordered Newton step at `y` (updated in place); the max-norm of the step.
@@ -173,7 +189,7 @@ impl<'m, M: Model> Tracer<'m, M> {
     ) -> Result<f64, String> {
         let n = self.n;
         self.iterations += 1;
-        self.assemble(y, border, target);
+        self.assemble(y, border, target)?;
         let res = self.rhs[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !res.is_finite() {
             return Err(format!("non-finite residual at Ω = {:.6}", self.omega(y)));
@@ -190,7 +206,7 @@ impl<'m, M: Model> Tracer<'m, M> {
     fn chord_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, String> {
         let n = self.n;
         self.chord_steps += 1;
-        let omega = self.unscale(y);
+        let omega = self.unscale(y)?;
         self.bal.residual(&self.a, omega, &mut self.r);
         for i in 0..n {
             self.rhs[i] = self.r[i] / self.sr;
