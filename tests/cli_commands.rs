@@ -337,3 +337,22 @@ fn simulate_json_matches_the_contract_and_the_closed_form() {
     let v: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     assert_eq!(v["scheme"], "gl");
 }
+
+/// Two outputs on one path would leave only the last written: refused before any work,
+/// naming both flags (exit 2), and nothing is written.
+#[test]
+fn two_outputs_on_one_path_are_refused() {
+    let dir = tmp("clash");
+    let file = dir.join("same.out");
+    let f = file.to_str().unwrap();
+    for (a, b) in [("--csv", "--json"), ("--csv", "--plot"), ("--json", "--plot")] {
+        let args = ["sweep", "duffing", "--from", "1", "--to", "2", a, f, b, f];
+        assert_rejected(&args, &[a, b, "same file"]);
+        assert_eq!(ihbm(&args).status.code(), Some(2));
+        assert!(!file.exists(), "{a} {b}: nothing written");
+    }
+    // `--json -` goes to standard output: no clash with a file.
+    let o = ihbm(&["sweep", "duffing", "--from", "1", "--to", "2", "--csv", f, "--json", "-"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(file.exists());
+}

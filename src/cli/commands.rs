@@ -62,6 +62,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             }
         }
         Command::Sweep { name, from, to, curve: args } => {
+            distinct_outputs(&args)?;
             let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
             let settings = args.cont.settings(args.harmonics);
@@ -73,6 +74,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             write_curve(&curve, &name, &title, &args, out)
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
+            distinct_outputs(&args)?;
             let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!(
                 "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
@@ -122,6 +124,29 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
 }
 
 /// Write a traced curve: CSV, SVG, and the JSON or a human summary.
+/// `--csv`, `--json FILE` and `--plot` name three different files (two of them on
+/// one path would leave only the last one written), refused before any work.
+fn distinct_outputs(files: &CurveArgs) -> Result<(), Failure> {
+    let json = files.json.as_deref().filter(|t| *t != "-").map(Path::new);
+    let named =
+        [("--csv", files.csv.as_deref()), ("--json", json), ("--plot", files.plot.as_deref())];
+    let given: Vec<(&str, std::path::PathBuf)> = named
+        .iter()
+        .filter_map(|&(flag, p)| {
+            p.map(|p| (flag, std::path::absolute(p).unwrap_or(p.to_path_buf())))
+        })
+        .collect();
+    for (i, (a, pa)) in given.iter().enumerate() {
+        if let Some((b, _)) = given[i + 1..].iter().find(|(_, pb)| pb == pa) {
+            return Err(Failure::usage(format!(
+                "{a} and {b} name the same file {}: give each output its own path",
+                pa.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn write_curve(
     curve: &Curve,
     name: &str,

@@ -51,13 +51,39 @@ impl FreqUnit {
 }
 
 /// Write `text` to `path`, creating parent directories; errors name the path.
+///
+/// The file is written whole or not at all: the text goes to a temporary file beside
+/// `path` (same directory, so the rename cannot cross file systems), which is then
+/// renamed over `path`. An interrupt, a full disk or a file-size limit leaves the old
+/// file (or none) and at worst a `.ihbm-tmp` file, never a truncated `path`.
+///
+/// ```
+/// let dir = std::env::temp_dir().join(format!("ihbm-doc-write-{}", std::process::id()));
+/// let path = dir.join("a/b.txt");
+/// ihbm::report::write_file(&path, "one")?;
+/// ihbm::report::write_file(&path, "two")?;
+/// assert_eq!(std::fs::read_to_string(&path).unwrap(), "two");
+/// let left: Vec<_> = std::fs::read_dir(dir.join("a")).unwrap().collect();
+/// assert_eq!(left.len(), 1, "no temporary file is left behind");
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// # Ok::<(), ihbm::Error>(())
+/// ```
 pub fn write_file(path: &Path, text: &str) -> Result<(), Error> {
+    fn io(p: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+        move |source| Error::Io { path: p.display().to_string(), source }
+    }
     if let Some(dir) = path.parent() {
         if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)
-                .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
+            std::fs::create_dir_all(dir).map_err(io(dir))?;
         }
     }
-    std::fs::write(path, text)
-        .map_err(|source| Error::Io { path: path.display().to_string(), source })
+    let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    tmp_name.push(format!(".{}.ihbm-tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        // Nothing half-written stays behind; the original error is the one to report.
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.map_err(io(path))
 }
