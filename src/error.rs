@@ -28,6 +28,23 @@ pub enum Error {
     #[error("unknown model '{name}' (known: {known})")]
     UnknownModel { name: String, known: String },
     /// A value outside what the method accepts.
+    /// A problem too large for the machine: what it would need, and the largest
+    /// harmonic count that fits.
+    #[error("N = {harmonics} harmonics with {dofs} DOF(s) needs about {needed} for the dense {what} (limit {limit}); the largest N that fits is {largest}")]
+    TooLarge {
+        /// The harmonic count asked for.
+        harmonics: usize,
+        /// DOFs of the model.
+        dofs: usize,
+        /// Which part (for example "harmonic-balance Jacobians").
+        what: String,
+        /// The estimated memory, readable (`"1.3 TB"`).
+        needed: String,
+        /// The limit, readable.
+        limit: String,
+        /// The largest N within the limit.
+        largest: usize,
+    },
     #[error("invalid {what}: {value} (expected {expected})")]
     InvalidValue { what: String, value: String, expected: String },
     /// Newton did not converge; the last iterate is kept.

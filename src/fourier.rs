@@ -23,6 +23,11 @@ pub fn coeff_len(harmonics: usize) -> usize {
 
 /// Smallest `2^a 3^b 5^c` at least `n` (sizes the FFT is fastest for).
 pub fn fast_size(n: usize) -> usize {
+    // No FFT of such a size is ever planned (`balance::check_size` refuses far
+    // smaller problems); returning `n` keeps the search from running off the end.
+    if n > 1 << 48 {
+        return n;
+    }
     let mut m = n.max(1);
     loop {
         let mut r = m;
@@ -48,8 +53,10 @@ pub fn fast_size(n: usize) -> usize {
 /// assert_eq!(ihbm::fourier::sample_count(3, 5, 1), 24);
 /// ```
 pub fn sample_count(degree: usize, harmonics: usize, max_forcing: usize) -> usize {
-    let alias_free = (degree.max(1) + 1) * harmonics + 1;
-    fast_size(alias_free.max(harmonics + max_forcing + 1).max(2 * harmonics + 1))
+    // Saturating: an absurd N must not wrap around into a small sample count.
+    let alias_free = (degree.max(1) + 1).saturating_mul(harmonics).saturating_add(1);
+    let forced = harmonics.saturating_add(max_forcing).saturating_add(1);
+    fast_size(alias_free.max(forced).max(harmonics.saturating_mul(2).saturating_add(1)))
 }
 
 /// `e^{iqπ/2}` with exact values for integer `q` (so that `D^1` and `D^2` carry no

@@ -356,3 +356,21 @@ fn two_outputs_on_one_path_are_refused() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(file.exists());
 }
+
+/// A harmonic count too large for memory is refused at once with the largest N that
+/// fits (it panicked inside faer at N = 100000 and looped forever from N = 2^62 on,
+/// the sample count overflowing).
+#[test]
+fn harmonic_counts_beyond_memory_are_refused_with_the_largest_that_fits() {
+    for n in ["100000", "4611686018427387904", "18446744073709551615"] {
+        for cmd in [
+            &["solve", "quarter-car", "--omega", "8"][..],
+            &["sweep", "duffing", "--from", "1", "--to", "2"],
+        ] {
+            let mut args = cmd.to_vec();
+            args.extend(["--harmonics", n]);
+            assert_rejected(&args, &["N = ", "largest N that fits"]);
+            assert_eq!(ihbm(&args).status.code(), Some(2), "{args:?}");
+        }
+    }
+}

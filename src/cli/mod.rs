@@ -46,6 +46,7 @@ impl Failure {
             | UnknownOutput { .. }
             | UnknownModel { .. }
             | InvalidValue { .. }
+            | TooLarge { .. }
             | Study(_) => Failure::usage(e),
             _ => Failure::failed(e),
         }

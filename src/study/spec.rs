@@ -391,7 +391,7 @@ impl Study {
     fn check_harmonics(&self, n: usize, fig: Option<&str>) -> Result<()> {
         if n == 0 || n > 1000 {
             let what = fig.map_or(String::new(), |f| format!("figure '{f}': "));
-            return Err(self.whole(format!("{what}harmonics = {n} (expected N >= 1)")));
+            return Err(self.whole(format!("{what}harmonics = {n} (expected 1 <= N <= 1000)")));
         }
         Ok(())
     }
