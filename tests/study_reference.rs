@@ -208,3 +208,51 @@ params = { p = 2.5 }
     assert!(out2.join("ok_and_bad_p_0.5.csv").exists());
     assert!(out2.join("summary.md").exists());
 }
+
+/// Two parts of a study that would write one file are refused before anything runs,
+/// naming both; so is a study whose output would overwrite the study file itself.
+#[test]
+fn name_clashes_and_outputs_over_the_input_are_refused() {
+    let cli = Cli::builtin();
+    let head = "model = \"duffing\"\nfrequency = { from = 0.5, to = 2.0 }\n";
+    for (figures, needles) in [
+        // equal once rounded for the file name
+        (
+            "[[figure]]\nid = \"a\"\nvary = \"F\"\nvalues = [0.1, 0.1000001]\n",
+            ["a_F_0.1.csv", "F = 0.1"],
+        ),
+        // the same value twice
+        ("[[figure]]\nid = \"a\"\nvary = \"F\"\nvalues = [0.5, 0.5]\n", ["a_F_0.5.csv", "F = 0.5"]),
+        // a figure id equal to another figure's derived name
+        (
+            "[[figure]]\nid = \"f1\"\nvary = \"F\"\nvalues = [1.0]\n[[figure]]\nid = \"f1_F_1\"\n",
+            ["f1_F_1.csv", "figure 'f1_F_1'"],
+        ),
+    ] {
+        let text = format!("{head}{figures}");
+        let s = study::parse(&text, "clash.toml").unwrap();
+        s.validate(cli.registry()).unwrap();
+        let e = study::output_files(&s, cli.registry()).unwrap_err().to_string();
+        for n in needles {
+            assert!(e.contains(n), "{e}");
+        }
+        let dir = tmp("clash");
+        assert!(study::run(&s, cli.registry(), &dir).is_err());
+        assert!(!dir.exists(), "nothing written");
+    }
+
+    // `ihbm run f1.svg --out .`: the figure f1 would overwrite the study file.
+    let dir = tmp("over-input");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("f1.svg");
+    let text = format!("{head}[[figure]]\nid = \"f1\"\n");
+    std::fs::write(&path, &text).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_ihbm"))
+        .args(["run", path.to_str().unwrap(), "--out", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("over its own file"), "{err}");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), text, "the study file is untouched");
+}

@@ -123,7 +123,6 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
     }
 }
 
-/// Write a traced curve: CSV, SVG, and the JSON or a human summary.
 /// `--csv`, `--json FILE` and `--plot` name three different files (two of them on
 /// one path would leave only the last one written), refused before any work.
 fn distinct_outputs(files: &CurveArgs) -> Result<(), Failure> {
@@ -147,6 +146,7 @@ fn distinct_outputs(files: &CurveArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Write a traced curve: CSV, SVG, and the JSON or a human summary.
 fn write_curve(
     curve: &Curve,
     name: &str,
@@ -333,6 +333,17 @@ fn run(
     };
     let spec = study::parse(&text, &label).map_err(Failure::from_error)?;
     spec.validate(reg).map_err(Failure::from_error)?;
+    let files = study::output_files(&spec, reg).map_err(Failure::from_error)?;
+    if let Some(input) = file.and_then(|p| std::path::absolute(p).ok()) {
+        let hit =
+            files.iter().find(|n| std::path::absolute(dir.join(n)).ok().as_ref() == Some(&input));
+        if let Some(name) = hit {
+            return Err(Failure::usage(format!(
+                "the study would write {name} over its own file {}: choose another --out",
+                input.display()
+            )));
+        }
+    }
     let outcome = study::run(&spec, reg, dir).map_err(Failure::failed)?;
     w(
         out,

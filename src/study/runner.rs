@@ -152,11 +152,42 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
     Ok(plans)
 }
 
+/// The file names a run of `study` writes (in its output directory), each with the
+/// part it belongs to. Two parts on one name would overwrite each other: that is an
+/// error naming both (for example `values = [0.1, 0.1000001]`, equal in file names,
+/// or a figure `f1_F_1` beside figure `f1` varying `F` over 1).
+pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
+    let plans = plan(study, reg)?;
+    let mut files: Vec<(String, String)> = Vec::new();
+    for p in &plans {
+        for c in &p.curves {
+            let part = format!("figure '{}', {}", p.id, c.label);
+            files.push((format!("{}.csv", c.stem), part.clone()));
+            files.push((format!("{}.json", c.stem), part));
+        }
+        if !p.td.is_empty() {
+            files.push((format!("{}_timedomain.csv", p.id), format!("figure '{}'", p.id)));
+        }
+        files.push((format!("{}.svg", p.id), format!("figure '{}'", p.id)));
+    }
+    files.push(("summary.md".into(), "the summary".into()));
+    let mut seen: std::collections::HashMap<&str, &str> = std::collections::HashMap::new();
+    for (name, part) in &files {
+        if let Some(first) = seen.insert(name, part) {
+            return Err(Error::Study(format!(
+                "{first} and {part} would both write {name}: give them distinct ids or values"
+            )));
+        }
+    }
+    Ok(files.into_iter().map(|(n, _)| n).collect())
+}
+
 /// Run `study` (already validated) and write its files into `dir`: per curve a CSV
 /// and a sweep JSON, per figure an SVG (and a time-domain CSV), and `summary.md`.
 /// Failed parts are listed in the outcome and in `summary.md`; the rest is written.
 pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
     let start = Instant::now();
+    output_files(study, reg)?;
     let plans = plan(study, reg)?;
     std::fs::create_dir_all(dir)
         .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
