@@ -422,6 +422,20 @@ pub struct SimOutput {
     pub max_abs: f64,
     /// Mean over the last 10 forcing periods.
     pub mean: f64,
+    /// `|max_abs(last 10) - max_abs(10 before)| / max_abs(last 10)`: above
+    /// [`SimOutput::STEADY_DRIFT`] the run had not settled and `max_abs` is no steady
+    /// value.
+    pub drift: f64,
+}
+
+impl SimOutput {
+    /// The largest drift at which a run counts as steady.
+    pub const STEADY_DRIFT: f64 = 1e-2;
+
+    /// Whether the last two blocks of 10 periods agree (see [`SimOutput::drift`]).
+    pub fn steady(&self) -> bool {
+        self.drift <= Self::STEADY_DRIFT
+    }
 }
 
 /// The outcome of one `simulate`: what the JSON of `ihbm simulate` reports.

@@ -315,7 +315,9 @@ fn simulate_json_matches_the_contract_and_the_closed_form() {
     assert!(v["dt"].as_f64().unwrap() > 0.0);
     assert_eq!(keys(&v["outputs"]), ["z1", "z2", "y"]);
     for out in ["z1", "z2", "y"] {
-        assert_eq!(keys(&v["outputs"][out]), ["max_abs", "mean"]);
+        // the contract's keys, then the extensions saying whether the run settled
+        assert_eq!(keys(&v["outputs"][out]), ["max_abs", "mean", "drift", "steady"]);
+        assert_eq!(v["outputs"][out]["steady"], true, "damped, 200 periods");
     }
     let (z1, _) = linear_qc(8.0);
     let got = v["outputs"]["z1"]["max_abs"].as_f64().unwrap();
@@ -373,4 +375,31 @@ fn harmonic_counts_beyond_memory_are_refused_with_the_largest_that_fits() {
             assert_eq!(ihbm(&args).status.code(), Some(2), "{args:?}");
         }
     }
+}
+
+/// A time integration that has not settled says so: an undamped linear oscillator
+/// started from rest keeps its free vibration, beating with the forced one at
+/// Ω - 1 = 0.05 rad/s (a beat of 21 forcing periods), so the last two blocks of 10
+/// periods differ; with damping (decay time 2m/c = 20 s against about 1200 s
+/// integrated) they agree.
+#[test]
+fn simulate_flags_a_run_that_is_not_steady() {
+    let run = |set: &[&str]| {
+        let mut args = vec!["simulate", "duffing", "--omega", "1.05", "--set", "k3=0"];
+        for s in set {
+            args.extend(["--set", s]);
+        }
+        args.push("--json");
+        let o = ihbm(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+        v["outputs"]["x"].clone()
+    };
+    let undamped = run(&["c=0"]);
+    assert_eq!(undamped["steady"], false, "{undamped}");
+    assert!(undamped["drift"].as_f64().unwrap() > 1e-2, "{undamped}");
+    let damped = run(&[]);
+    assert_eq!(damped["steady"], true, "{damped}");
+    let o = ihbm(&["simulate", "duffing", "--omega", "1.05", "--set", "k3=0", "--set", "c=0"]);
+    assert!(stdout(&o).contains("warning: x is not steady"), "{}", stdout(&o));
 }

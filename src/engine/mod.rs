@@ -189,7 +189,12 @@ pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) ->
         outputs: sim
             .outputs
             .iter()
-            .map(|o| SimOutput { name: o.name.clone(), max_abs: o.max_abs, mean: o.mean })
+            .map(|o| SimOutput {
+                name: o.name.clone(),
+                max_abs: o.max_abs,
+                mean: o.mean,
+                drift: o.drift,
+            })
             .collect(),
     })
 }

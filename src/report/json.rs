@@ -98,11 +98,15 @@ pub fn sweep_json(c: &Curve) -> Value {
 }
 
 /// The JSON of `simulate`: `{model, omega, dt, periods, scheme, outputs: {name:
-/// {max_abs, mean}}}`.
+/// {max_abs, mean}}}`, each output with `drift` and `steady` added (whether the
+/// last two blocks of 10 periods agree to 1 %: a drifting run has no steady value).
 pub fn simulate_json(r: &SimRecord) -> Value {
     let mut outs = Map::new();
     for o in &r.outputs {
-        outs.insert(o.name.clone(), json!({ "max_abs": o.max_abs, "mean": o.mean }));
+        outs.insert(
+            o.name.clone(),
+            json!({ "max_abs": o.max_abs, "mean": o.mean, "drift": o.drift, "steady": o.steady() }),
+        );
     }
     json!({
         "model": r.model, "omega": r.omega, "dt": r.dt, "periods": r.periods,
