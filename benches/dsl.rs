@@ -4,8 +4,13 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use ihbm::balance::Balance;
 use ihbm::model::Model;
-use ihbm::models::{handwritten, QuarterCar};
+use ihbm::models::QuarterCar;
 use std::hint::black_box;
+
+// The test fixture, shared rather than copied; only its quarter car is timed here.
+#[allow(dead_code, unused_imports)]
+#[path = "../tests/dsl/handwritten.rs"]
+mod handwritten;
 
 fn bench_model<M: Model>(c: &mut Criterion, label: &str, model: &M) {
     let n = 5;

@@ -45,8 +45,6 @@
 pub mod base_excited;
 pub mod chain;
 pub mod duffing;
-#[doc(hidden)]
-pub mod handwritten;
 pub mod quarter_car;
 
 pub use base_excited::BaseExcited;

@@ -60,7 +60,7 @@
 //! axis, and the smallest-`|Im|` rule picks two copies of another mode instead — the
 //! quarter car below about 14 rad/s at N = 5 reported two copies of the body mode and
 //! left the wheel mode (77 rad/s) unchecked. Its centred copy (`c_0` dominant, at
-//! `Im λ ≈ 77`) is resolved at any Ω, and `tests/stability_centring.rs` checks the
+//! `Im λ ≈ 77`) is resolved at any Ω, and `tests/stability/centring.rs` checks the
 //! selected exponents against the 2-DOF linearisation's characteristic roots from 1 to
 //! 100 rad/s. Limits: the criterion presumes a mode's energy concentrated around one
 //! harmonic index; a strongly nonlinear response spreads it (variance ≳ 1) and near
@@ -181,7 +181,7 @@
 //! eigenvalue of the truncated problem belongs to one exponent's family), which holds
 //! when the truncation resolves the modes; where a strongly nonlinear response spreads
 //! the eigenvectors (the quarter car with `k3 = 5e6` near its resonances) the selection
-//! is unclean and the points are analysed in full. `tests/stability_tracking.rs`
+//! is unclean and the points are analysed in full. `tests/stability/tracking.rs`
 //! compares every point of curves with folds, a torus bubble, period doubling and
 //! fractional terms.
 //!

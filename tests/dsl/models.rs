@@ -2,7 +2,7 @@
 //! central finite differences, and the linearized model's harmonic balance solution
 //! equals its closed-form complex frequency response (built by hand below, per model).
 
-mod dsl_common;
+use crate::common as dsl_common;
 
 use dsl_common::{fd_jacobian, rel_diff, residual, residual_jacobian, scale_params};
 use ihbm::balance::Balance;

@@ -5,7 +5,7 @@
 //! runs (stability does not move points; the convergence estimate is the change
 //! between two independent runs), and error messages that name flag and value.
 
-mod cli_common;
+use crate::common as cli_common;
 
 use cli_common::{assert_rejected, ihbm, stderr, stdout, tmp};
 use num_complex::Complex64;

@@ -1,7 +1,7 @@
 //! End-to-end tests of the `ihbm` binary: every command on good input, every bad-input
 //! class, and the JSON documents field for field (CONTRACT section 2).
 
-mod cli_common;
+use crate::common as cli_common;
 
 use cli_common::{assert_rejected, ihbm, stderr, stdout, tmp};
 use num_complex::Complex64;

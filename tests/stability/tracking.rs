@@ -4,7 +4,7 @@
 //! The full analysis is the reference here; it is itself checked against closed forms,
 //! RK4 monodromy and time integration in the other stability tests.
 
-mod stability_common;
+use crate::common as stability_common;
 
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};

@@ -2,7 +2,7 @@
 //! (examples/user_cli.rs), driven in-process through `run_with`.
 
 #[allow(dead_code)]
-#[path = "../examples/user_cli.rs"]
+#[path = "../../examples/user_cli.rs"]
 mod user_cli;
 
 use num_complex::Complex64;

@@ -1,6 +1,6 @@
 //! Snapshots of reference curves and solver statistics (floats rounded). Added after
-//! the independent checks in continuation_duffing.rs, continuation_quarter_car.rs and
-//! stability_*.rs passed; they guard against silent changes, they prove nothing.
+//! the independent checks in duffing.rs, quarter_car.rs (beside this file) and
+//! tests/stability/ passed; they guard against silent changes, they prove nothing.
 
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, QuarterCar};

@@ -1,11 +1,11 @@
 //! The hand-written models the DSL replaced, kept as an independent reference: the
 //! tests compare the `oscillator!` twins against them sample by sample and harmonic by
-//! harmonic, and `benches/dsl.rs` times both. Not part of the public API.
+//! harmonic, and `benches/dsl.rs` times both. A test fixture, not shipped in the library.
 
 /// Hand-written quarter car (reference paper, eq. 4).
 pub mod quarter_car {
 
-    use crate::model::{Model, Order, Output, ParamInfo, Signal, Text};
+    use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
     use num_dual::DualNum;
     use std::borrow::Cow::Borrowed;
 
@@ -176,7 +176,7 @@ pub mod quarter_car {
 /// Hand-written Duffing and fractional Duffing oscillators.
 pub mod duffing {
 
-    use crate::model::{Model, Order, Output, ParamInfo, Signal, Text};
+    use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
     use num_dual::DualNum;
     use std::borrow::Cow::Borrowed;
 

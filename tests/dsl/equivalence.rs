@@ -1,13 +1,14 @@
 //! The DSL twins against the hand-written models they replaced
-//! (`ihbm::models::handwritten`): the same signals, the same residual and the same
+//! (`handwritten.rs` beside this file): the same signals, the same residual and the same
 //! signal derivatives at every sample, and the same harmonic-balance residual and
 //! Jacobian, at random coefficients, Ω and parameters.
 
-mod dsl_common;
+use crate::common as dsl_common;
 
+use crate::handwritten;
 use dsl_common::{rel_diff, residual_jacobian, scale_params};
 use ihbm::model::Model;
-use ihbm::models::{handwritten, Duffing, FractionalDuffing, QuarterCar};
+use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};
 use num_dual::Dual64;
 use proptest::prelude::*;
 

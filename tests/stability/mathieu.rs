@@ -5,7 +5,7 @@
 //! must report that as period doubling, where the monodromy matrix (integrated here
 //! independently with RK4) has a multiplier -1.
 
-mod stability_common;
+use crate::common as stability_common;
 
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};

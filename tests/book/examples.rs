@@ -2,15 +2,15 @@
 //! does not run them, and the book quotes their output.
 
 #[allow(dead_code)]
-#[path = "../examples/user_model.rs"]
+#[path = "../../examples/user_model.rs"]
 mod user_model;
 
 #[allow(dead_code)]
-#[path = "../examples/compare_td.rs"]
+#[path = "../../examples/compare_td.rs"]
 mod compare_td;
 
 #[allow(dead_code)]
-#[path = "../examples/sweep_plot.rs"]
+#[path = "../../examples/sweep_plot.rs"]
 mod sweep_plot;
 
 #[test]

@@ -1,0 +1,14 @@
+//! Arc-length continuation: closed forms, the reference paper's curves, harmonic
+//! convergence, snapshots.
+//!
+//! One test binary per area (each integration-test binary links the whole crate, and
+//! linking one per file dominated a fresh `cargo test`); the tests are in `tests/continuation/`.
+
+#[path = "continuation/convergence.rs"]
+mod convergence;
+#[path = "continuation/duffing.rs"]
+mod duffing;
+#[path = "continuation/quarter_car.rs"]
+mod quarter_car;
+#[path = "continuation/snapshots.rs"]
+mod snapshots;

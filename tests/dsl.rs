@@ -1,0 +1,22 @@
+//! The `oscillator!` macro: generated code against hand-written twins, closed forms and
+//! time integration, and its compile-time diagnostics.
+//!
+//! One test binary per area (each integration-test binary links the whole crate, and
+//! linking one per file dominated a fresh `cargo test`); the tests are in `tests/dsl/`.
+
+#[path = "dsl/codegen.rs"]
+mod codegen;
+#[path = "dsl/common.rs"]
+mod common;
+#[path = "dsl/compile_fail.rs"]
+mod compile_fail;
+#[path = "dsl/equivalence.rs"]
+mod equivalence;
+#[path = "dsl/handwritten.rs"]
+mod handwritten;
+#[path = "dsl/models.rs"]
+mod models;
+#[path = "dsl/nonlinear.rs"]
+mod nonlinear;
+#[path = "dsl/timedomain.rs"]
+mod timedomain;

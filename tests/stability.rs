@@ -1,0 +1,17 @@
+//! Hill stability: closed forms, centring, tracking, time integration.
+//!
+//! One test binary per area (each integration-test binary links the whole crate, and
+//! linking one per file dominated a fresh `cargo test`); the tests are in `tests/stability/`.
+
+#[path = "stability/centring.rs"]
+mod centring;
+#[path = "stability/common.rs"]
+mod common;
+#[path = "stability/fractional.rs"]
+mod fractional;
+#[path = "stability/mathieu.rs"]
+mod mathieu;
+#[path = "stability/timedomain.rs"]
+mod timedomain;
+#[path = "stability/tracking.rs"]
+mod tracking;
