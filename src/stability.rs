@@ -191,6 +191,7 @@
 
 use crate::balance::Balance;
 use crate::error::{Error, Result};
+use crate::linalg::{complex_lu_factor, complex_lu_solve, complex_lu_solve_adjoint};
 use crate::model::{Model, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Mat, Par};
@@ -452,6 +453,29 @@ impl Hill {
         })
     }
 
+    /// The order of signal `j` if it is an integer at `params` (a parameter order such
+    /// as `p = 1` included, up to the polynomial's degree): its factor `(λ + ikΩ)^q`
+    /// is then polynomial, exact in the companion linearisation, with nothing to refine.
+    fn integer_order(&self, j: usize, params: &[f64]) -> Option<usize> {
+        match self.signals[j].1 {
+            Order::Int(q) => Some(q as usize),
+            order => {
+                let q = order.value(params);
+                (q >= 0.0 && q.fract() == 0.0 && q <= self.degree as f64).then_some(q as usize)
+            }
+        }
+    }
+
+    /// Whether some order is fractional at `params`; a change forgets the tracking
+    /// state (its exponents were of the other kind of problem).
+    fn set_orders(&mut self, params: &[f64]) {
+        let fractional = (0..self.signals.len()).any(|j| self.integer_order(j, params).is_none());
+        if fractional != self.fractional {
+            self.state = None;
+        }
+        self.fractional = fractional;
+    }
+
     /// Number of central exponents (`degree · ndof`).
     pub fn central_count(&self) -> usize {
         self.degree * self.ndof
@@ -468,6 +492,7 @@ impl Hill {
         opts: &StabilityOptions,
     ) -> Result<Floquet> {
         self.project(bal, coeffs, omega)?;
+        self.set_orders(bal.params());
         self.full(bal.params(), omega, opts)
     }
 
@@ -481,14 +506,35 @@ impl Hill {
         self.raw.clear();
         self.replaced = false;
         if self.fractional && opts.refine {
+            // Each candidate's eigenvector of the frozen problem (one inverse iteration
+            // at its eigenvalue, nearly singular there): a start that is already an
+            // eigenvector, not the one step from a generic vector on the true T(λ),
+            // which at low Ω mixes in the copies of other modes (spaced by Ω) and sent
+            // the iteration to another mode's root.
+            let frozen_vectors: Vec<Option<Vec<Complex64>>> = self
+                .cands
+                .clone()
+                .iter()
+                .chain(self.spare.clone().iter())
+                .map(|&c| {
+                    if c.im < -tie {
+                        return None;
+                    }
+                    self.start_vector(params, omega, c, false).or_else(|| {
+                        self.start_vector(params, omega, c + 1e-10 * omega.max(c.norm()), false)
+                    })
+                })
+                .collect();
+            let ncand = self.cands.len();
             // The exact (not frozen) polynomial part for the refinement.
             self.assemble_polynomial(params, omega, false);
             let cands = std::mem::take(&mut self.cands);
             let mut spare = 0;
-            for &c in &cands {
+            for (ci, &c) in cands.iter().enumerate() {
                 if c.im < -tie {
                     continue; // its conjugate is refined
                 }
+                let mut start = frozen_vectors[ci].clone();
                 // Two candidates refined to one root (two copies of one exponent kept by
                 // a selection confused by a strongly nonlinear response, or an iteration
                 // that wandered to another exponent): the next spare candidate replaces
@@ -496,12 +542,13 @@ impl Hill {
                 // none refines to a new root, the candidate is reported unrefined.
                 let mut cand = c;
                 let l = loop {
-                    match self.refine(params, omega, cand, opts.max_refine_iter) {
+                    match self.refine(params, omega, cand, start.take(), opts.max_refine_iter) {
                         Some(l) if !self.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
                             break l
                         }
                         Some(_) if spare < self.spare.len() => {
                             cand = self.spare[spare];
+                            start = frozen_vectors[ncand + spare].clone();
                             spare += 1;
                             self.replaced = true;
                         }
@@ -538,6 +585,7 @@ impl Hill {
     ) -> Result<Floquet> {
         self.project(bal, coeffs, omega)?;
         let params = bal.params();
+        self.set_orders(params);
         if self.fractional && !opts.refine {
             // Frozen-order exponents are not roots of T(λ): nothing to track.
             self.state = None;
@@ -731,18 +779,19 @@ impl Hill {
         }
         for j in 0..nsig {
             let order = self.signals[j].1;
-            let (rmax, qi) = match order {
-                Order::Int(q) => (q as usize, q as usize),
-                Order::Param(_) if frozen => (0, 0),
-                Order::Param(_) => continue,
+            let int = self.integer_order(j, params);
+            let (rmax, qi) = match int {
+                Some(q) => (q, q),
+                None if frozen => (0, 0),
+                None => continue,
             };
             let q = order.value(params);
             for r in 0..=rmax {
                 // Coefficient of λ^r in (λ ± ikΩ)^q: binom(q, r) (±ikΩ)^(q - r); for a
                 // frozen fractional order, r = 0 and the factor (±ikΩ)^p.
-                let (binom, s) = match order {
-                    Order::Int(_) => (binomial(qi, r), qi as f64 - r as f64),
-                    Order::Param(_) => (1.0, q),
+                let (binom, s) = match int {
+                    Some(_) => (binomial(qi, r), qi as f64 - r as f64),
+                    None => (1.0, q),
                 };
                 for k in 0..=nh {
                     let (a, b) = if k == 0 {
@@ -980,7 +1029,9 @@ impl Hill {
             return;
         }
         for j in 0..nsig {
-            let Order::Param(_) = self.signals[j].1 else { continue };
+            if self.integer_order(j, params).is_some() {
+                continue;
+            }
             self.fractional_factors(self.signals[j].1.value(params), omega, lambda);
             let ab = &self.alpha;
             for e in 0..self.ndof {
@@ -1071,7 +1122,9 @@ impl Hill {
             return;
         }
         for j in 0..nsig {
-            let Order::Param(_) = self.signals[j].1 else { continue };
+            if self.integer_order(j, params).is_some() {
+                continue;
+            }
             self.fractional_factors(self.signals[j].1.value(params), omega, lambda);
             for e in 0..self.ndof {
                 let idx = e * nsig + j;
@@ -1153,15 +1206,20 @@ impl Hill {
         params: &[f64],
         omega: f64,
         l0: Complex64,
+        mut v0: Option<Vec<Complex64>>,
         max_iter: usize,
     ) -> Option<Complex64> {
         let tie = 1e-12 * omega;
         let mut start = l0;
         for _ in 0..RECENTRE_TRIES {
-            let v = self.start_vector(params, omega, start, true)?;
-            // `self.t` holds the LU of T(start) from the start vector: the first step
-            // reuses it.
-            let (mut l, mut v, _) = self.newton(params, omega, start, v, max_iter, true, true)?;
+            let (v, factored) = match v0.take() {
+                Some(v) => (v, false),
+                // `self.t` holds the LU of T(start) from the start vector: the first
+                // step reuses it.
+                None => (self.start_vector(params, omega, start, true)?, true),
+            };
+            let (mut l, mut v, _) =
+                self.newton(params, omega, start, v, max_iter, factored, true)?;
             if l.im < -tie {
                 // One per conjugate pair, in the upper half plane.
                 l = l.conj();
@@ -1217,7 +1275,7 @@ impl Hill {
             self.apply_t(params, omega, lambda, exact, &v, false);
             self.x.copy_from_slice(&self.dtv);
             let solved = if reuse {
-                lu_apply(&self.t, m, &self.piv, &mut self.x);
+                complex_lu_solve(&self.t, m, &self.piv, &mut self.x);
                 true
             } else {
                 lu_solve(&mut self.t, m, &mut self.piv, &mut self.x)
@@ -1247,7 +1305,7 @@ impl Hill {
             // The Rayleigh step at the new λ: w from the factors of T(λ_k), T(λ)v and
             // T'(λ)v without assembling T(λ).
             self.w.copy_from_slice(&u);
-            lu_apply_adjoint(&self.t, m, &self.piv, &mut self.w);
+            complex_lu_solve_adjoint(&self.t, m, &self.piv, &mut self.w);
             self.apply_t(params, omega, lambda, exact, &v, true);
             let wr: Complex64 = self.w.iter().zip(&self.tv).map(|(a, b)| a.conj() * b).sum();
             let wd: Complex64 = self.w.iter().zip(&self.dtv).map(|(a, b)| a.conj() * b).sum();
@@ -1420,63 +1478,14 @@ fn normalise(v: &mut [Complex64]) -> Option<()> {
     Some(())
 }
 
-/// Solve `A x = b` in place (`a` row-major `n × n`, overwritten by its LU factors with
-/// partial pivoting, `piv` by the row swaps; `b` by `x`). `false` on a zero pivot. The
-/// Hill matrices are small (`n` ≲ 100): a plain loop allocates nothing and needs no
-/// setup.
+/// Factorise `a` (row-major `n × n`) in place and solve `A x = b` (`b` by `x`);
+/// `false` on a zero pivot.
 fn lu_solve(a: &mut [Complex64], n: usize, piv: &mut [usize], b: &mut [Complex64]) -> bool {
-    for k in 0..n {
-        let mut p = k;
-        let mut best = a[k * n + k].norm_sqr();
-        for i in k + 1..n {
-            let v = a[i * n + k].norm_sqr();
-            if v > best {
-                best = v;
-                p = i;
-            }
-        }
-        if best == 0.0 || !best.is_finite() {
-            return false;
-        }
-        piv[k] = p;
-        if p != k {
-            let (top, rest) = a.split_at_mut(p * n);
-            top[k * n..(k + 1) * n].swap_with_slice(&mut rest[..n]);
-        }
-        let inv = a[k * n + k].inv();
-        let (top, rest) = a.split_at_mut((k + 1) * n);
-        let rowk = &top[k * n + k + 1..(k + 1) * n];
-        for row in rest.chunks_exact_mut(n) {
-            let f = row[k] * inv;
-            row[k] = f;
-            if f != Complex64::new(0.0, 0.0) {
-                for (x, &y) in row[k + 1..].iter_mut().zip(rowk) {
-                    *x -= f * y;
-                }
-            }
-        }
+    if complex_lu_factor(a, n, piv, 0.0) != 0 {
+        return false;
     }
-    lu_apply(a, n, piv, b);
+    complex_lu_solve(a, n, piv, b);
     true
-}
-
-/// Solve with the factors and swaps left by [`lu_solve`].
-fn lu_apply(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
-    // The factors are those of P·A (rows swapped in full): all swaps first.
-    for (k, &p) in piv.iter().enumerate().take(n) {
-        b.swap(k, p);
-    }
-    // Row-wise dot products (contiguous rows of L), not column updates.
-    for i in 1..n {
-        let row = &a[i * n..i * n + i];
-        let s: Complex64 = row.iter().zip(&b[..i]).map(|(x, y)| x * y).sum();
-        b[i] -= s;
-    }
-    for k in (0..n).rev() {
-        let row = &a[k * n..(k + 1) * n];
-        let s: Complex64 = row[k + 1..].iter().zip(&b[k + 1..]).map(|(x, y)| x * y).sum();
-        b[k] = (b[k] - s) / row[k];
-    }
 }
 
 /// `λ^r` and `d/dλ λ^r = r λ^{r-1}` for `r = 0..=min(d, 7)`.
@@ -1490,30 +1499,6 @@ fn powers(lambda: Complex64, d: usize) -> ([Complex64; 8], [Complex64; 8]) {
         p *= lambda;
     }
     (pw, dpw)
-}
-
-/// Solve `Aᴴ w = b` with the factors and swaps of `A` left by [`lu_solve`]
-/// (`P A = L U`, so `Aᴴ = Uᴴ Lᴴ P`).
-fn lu_apply_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
-    // Uᴴ is lower triangular with the rows of U as its columns: column updates read
-    // contiguous rows.
-    for k in 0..n {
-        let row = &a[k * n..(k + 1) * n];
-        let bk = b[k] / row[k].conj();
-        b[k] = bk;
-        for (x, u) in b[k + 1..].iter_mut().zip(&row[k + 1..]) {
-            *x -= u.conj() * bk;
-        }
-    }
-    for k in (0..n).rev() {
-        let bk = b[k];
-        for i in 0..k {
-            b[i] -= a[k * n + i].conj() * bk;
-        }
-    }
-    for (k, &p) in piv.iter().enumerate().take(n).rev() {
-        b.swap(k, p);
-    }
 }
 
 /// Exponents are defined modulo `iΩ`; bring one into `(-Ω/2, Ω/2]`.
@@ -1599,48 +1584,6 @@ fn add_diag<T>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn complex_lu_solves_with_pivoting() {
-        // A matrix whose first pivot is zero: pivoting is required.
-        let n = 7;
-        let a: Vec<Complex64> = (0..n * n)
-            .map(|k| {
-                let (i, j) = (k / n, k % n);
-                if i == 0 && j == 0 {
-                    Complex64::new(0.0, 0.0)
-                } else {
-                    let re = ((i * 7 + j * 3) % 11) as f64 - 5.0;
-                    Complex64::new(re, ((i + 2 * j) % 3) as f64)
-                }
-            })
-            .collect();
-        let x: Vec<Complex64> = (0..n).map(|i| Complex64::new(i as f64 - 2.0, 0.5)).collect();
-        let mut b: Vec<Complex64> =
-            (0..n).map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum()).collect();
-        let mut lu = a.clone();
-        let mut piv = vec![0; n];
-        assert!(lu_solve(&mut lu, n, &mut piv, &mut b));
-        for (bi, xi) in b.iter().zip(&x) {
-            assert!((bi - xi).norm() < 1e-12, "{bi} vs {xi}");
-        }
-        // The stored factors solve another right-hand side (the reuse in `newton`).
-        let y: Vec<Complex64> = (0..n).map(|i| Complex64::new(0.3, i as f64)).collect();
-        let mut c: Vec<Complex64> =
-            (0..n).map(|i| (0..n).map(|j| a[i * n + j] * y[j]).sum()).collect();
-        lu_apply(&lu, n, &piv, &mut c);
-        for (ci, yi) in c.iter().zip(&y) {
-            assert!((ci - yi).norm() < 1e-12, "{ci} vs {yi}");
-        }
-        assert!(piv.iter().enumerate().filter(|&(k, &p)| p != k).count() >= 2, "{piv:?}");
-        // And the adjoint system Aᴴ y = d (the Rayleigh step in `newton`).
-        let mut d: Vec<Complex64> =
-            (0..n).map(|i| (0..n).map(|j| a[j * n + i].conj() * y[j]).sum()).collect();
-        lu_apply_adjoint(&lu, n, &piv, &mut d);
-        for (di, yi) in d.iter().zip(&y) {
-            assert!((di - yi).norm() < 1e-12, "{di} vs {yi}");
-        }
-    }
 
     #[test]
     fn diagonal_shortcut_equals_the_dense_product() {
