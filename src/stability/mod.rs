@@ -144,6 +144,8 @@ pub struct Hill {
     mem: MemBuffer,
     signals: Vec<(Vec<(usize, f64)>, Order)>,
     fractional: bool,
+    /// The signals whose order is fractional at the current parameters.
+    fractional_signals: Vec<usize>,
     cands: Vec<Complex64>,
     /// [`Spread`] of each selected candidate's eigenvector, and the smallest rank of
     /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
@@ -259,6 +261,7 @@ impl Hill {
             mem: MemBuffer::new(scratch),
             signals,
             fractional,
+            fractional_signals: Vec::new(),
             cands: Vec::with_capacity(big),
             centres: Vec::with_capacity(big),
             next_rank: f64::INFINITY,
@@ -295,7 +298,13 @@ impl Hill {
     /// Whether some order is fractional at `params`; a change forgets the tracking
     /// state (its exponents were of the other kind of problem).
     fn set_orders(&mut self, params: &[f64]) {
-        let fractional = (0..self.signals.len()).any(|j| self.integer_order(j, params).is_none());
+        self.fractional_signals.clear();
+        for j in 0..self.signals.len() {
+            if self.integer_order(j, params).is_none() {
+                self.fractional_signals.push(j);
+            }
+        }
+        let fractional = !self.fractional_signals.is_empty();
         if fractional != self.fractional {
             self.state = None;
         }
@@ -318,7 +327,6 @@ impl Hill {
         opts: &StabilityOptions,
     ) -> Result<Floquet> {
         self.project(bal, coeffs, omega)?;
-        self.set_orders(bal.params());
         self.full(bal.params(), omega, opts)
     }
 
@@ -399,8 +407,9 @@ impl Hill {
     /// previous point are continued to this one by Newton's method on the true
     /// `T(λ) v = 0` (from the previous eigenvalue and eigenvector; for fractional models
     /// the refined roots themselves), and the full analysis runs only when that cannot be
-    /// trusted (module docs, *Tracking along a curve*). Call [`Hill::reset`] when the
-    /// next point does not continue the previous one (new segment, a fold in between).
+    /// trusted (book, *Continuation*, *Tracking the exponents along a curve*). Call
+    /// [`Hill::reset`] when the next point does not continue the previous one (new
+    /// segment, a fold in between).
     /// The result is the full analysis's, to the iterations' tolerance (`1e-10·Ω`).
     pub fn track<M: Model>(
         &mut self,
@@ -411,7 +420,6 @@ impl Hill {
     ) -> Result<Floquet> {
         self.project(bal, coeffs, omega)?;
         let params = bal.params();
-        self.set_orders(params);
         if self.fractional && !opts.refine {
             // Frozen-order exponents are not roots of T(λ): nothing to track.
             self.state = None;

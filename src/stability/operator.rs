@@ -47,6 +47,7 @@ impl Hill {
                 crate::balance::add_block(view, nh, 0, 0, 1.0, g, ext, ones);
             }
         }
+        self.set_orders(bal.params());
         Ok(())
     }
 
@@ -128,10 +129,8 @@ impl Hill {
         if !(self.fractional && exact) {
             return;
         }
-        for j in 0..nsig {
-            if self.integer_order(j, params).is_some() {
-                continue;
-            }
+        for fi in 0..self.fractional_signals.len() {
+            let j = self.fractional_signals[fi];
             self.fractional_factors(self.signals[j].1.value(params), omega, lambda);
             let ab = &self.alpha;
             for e in 0..self.ndof {
@@ -221,10 +220,8 @@ impl Hill {
         if !(self.fractional && exact) {
             return;
         }
-        for j in 0..nsig {
-            if self.integer_order(j, params).is_some() {
-                continue;
-            }
+        for fi in 0..self.fractional_signals.len() {
+            let j = self.fractional_signals[fi];
             self.fractional_factors(self.signals[j].1.value(params), omega, lambda);
             for e in 0..self.ndof {
                 let idx = e * nsig + j;

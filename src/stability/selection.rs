@@ -5,8 +5,8 @@ use super::*;
 
 impl Hill {
     /// Keep `count` of the eigenvalues in `self.cands`, one per Floquet exponent: the
-    /// copies whose eigenvectors are centred in harmonic index (module docs, *Which
-    /// copy*), smallest rank ([`Spread::key`]) first; among near-equal ranks the larger
+    /// copies whose eigenvectors are centred in harmonic index (book, *Continuation*,
+    /// *Which copy*), smallest rank ([`Spread::key`]) first; among near-equal ranks the larger
     /// real part first, so that a growing exponent is never the one left out. Values
     /// equal modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling,
     /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
