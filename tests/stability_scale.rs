@@ -20,72 +20,9 @@ use ihbm::results::Curve;
 use ihbm::stability::{Hill, StabilityOptions};
 use num_complex::Complex64;
 
-ihbm::oscillator! {
-    /// A chain of 5 masses (scaling benchmark).
-    pub struct Chain5 {
-        params { m = 1.0, k = 1.0, k3 = 0.5, c = 0.02, h = 0.02, p = 0.5, F = 0.05 }
-        dofs { x1, x2, x3, x4, x5 }
-        let y1 = x1;
-        let s1 = k * y1 + k3 * y1.powi(3) + c * D(y1, 1) + h * D(y1, p);
-        let y2 = x2 - x1;
-        let s2 = k * y2 + k3 * y2.powi(3) + c * D(y2, 1) + h * D(y2, p);
-        let y3 = x3 - x2;
-        let s3 = k * y3 + k3 * y3.powi(3) + c * D(y3, 1) + h * D(y3, p);
-        let y4 = x4 - x3;
-        let s4 = k * y4 + k3 * y4.powi(3) + c * D(y4, 1) + h * D(y4, p);
-        let y5 = x5 - x4;
-        let s5 = k * y5 + k3 * y5.powi(3) + c * D(y5, 1) + h * D(y5, p);
-        equations {
-            m * D(x1, 2) + s1 - s2 = 0.0;
-            m * D(x2, 2) + s2 - s3 = 0.0;
-            m * D(x3, 2) + s3 - s4 = 0.0;
-            m * D(x4, 2) + s4 - s5 = 0.0;
-            m * D(x5, 2) + s5 = F * cos(omega * t);
-        }
-        outputs { x1, x5 }
-    }
-}
-
-ihbm::oscillator! {
-    /// A chain of 10 masses (scaling benchmark).
-    pub struct Chain10 {
-        params { m = 1.0, k = 1.0, k3 = 0.5, c = 0.02, h = 0.02, p = 0.5, F = 0.05 }
-        dofs { x1, x2, x3, x4, x5, x6, x7, x8, x9, x10 }
-        let y1 = x1;
-        let s1 = k * y1 + k3 * y1.powi(3) + c * D(y1, 1) + h * D(y1, p);
-        let y2 = x2 - x1;
-        let s2 = k * y2 + k3 * y2.powi(3) + c * D(y2, 1) + h * D(y2, p);
-        let y3 = x3 - x2;
-        let s3 = k * y3 + k3 * y3.powi(3) + c * D(y3, 1) + h * D(y3, p);
-        let y4 = x4 - x3;
-        let s4 = k * y4 + k3 * y4.powi(3) + c * D(y4, 1) + h * D(y4, p);
-        let y5 = x5 - x4;
-        let s5 = k * y5 + k3 * y5.powi(3) + c * D(y5, 1) + h * D(y5, p);
-        let y6 = x6 - x5;
-        let s6 = k * y6 + k3 * y6.powi(3) + c * D(y6, 1) + h * D(y6, p);
-        let y7 = x7 - x6;
-        let s7 = k * y7 + k3 * y7.powi(3) + c * D(y7, 1) + h * D(y7, p);
-        let y8 = x8 - x7;
-        let s8 = k * y8 + k3 * y8.powi(3) + c * D(y8, 1) + h * D(y8, p);
-        let y9 = x9 - x8;
-        let s9 = k * y9 + k3 * y9.powi(3) + c * D(y9, 1) + h * D(y9, p);
-        let y10 = x10 - x9;
-        let s10 = k * y10 + k3 * y10.powi(3) + c * D(y10, 1) + h * D(y10, p);
-        equations {
-            m * D(x1, 2) + s1 - s2 = 0.0;
-            m * D(x2, 2) + s2 - s3 = 0.0;
-            m * D(x3, 2) + s3 - s4 = 0.0;
-            m * D(x4, 2) + s4 - s5 = 0.0;
-            m * D(x5, 2) + s5 - s6 = 0.0;
-            m * D(x6, 2) + s6 - s7 = 0.0;
-            m * D(x7, 2) + s7 - s8 = 0.0;
-            m * D(x8, 2) + s8 - s9 = 0.0;
-            m * D(x9, 2) + s9 - s10 = 0.0;
-            m * D(x10, 2) + s10 = F * cos(omega * t);
-        }
-        outputs { x1, x10 }
-    }
-}
+#[path = "../benches/chains/mod.rs"]
+mod chains;
+use chains::{Chain10, Chain5};
 
 /// The parameters every chain here shares (those of the generated models).
 struct Link {
