@@ -746,56 +746,18 @@ pub(crate) fn linearized_on<M: Model>(
     Ok((a, r0))
 }
 
-/// Gaussian elimination with partial pivoting on a small dense complex system
-/// (row-major `a`, right-hand side `b` overwritten by the solution). A zero pivot
-/// with a zero right-hand side gives the zero solution for that unknown.
+/// Solve a small dense complex system (row-major `a`, right-hand side `b` overwritten
+/// by the solution). A zero pivot with a zero right-hand side gives the zero solution
+/// for that unknown.
 fn complex_solve(
     a: &mut [Complex64],
     b: &mut [Complex64],
     n: usize,
 ) -> std::result::Result<(), String> {
     let scale = a.iter().fold(0.0f64, |s, z| s.max(z.norm()));
-    for col in 0..n {
-        let piv = (col..n)
-            .max_by(|&i, &j| a[i * n + col].norm().total_cmp(&a[j * n + col].norm()))
-            .unwrap_or(col);
-        if piv != col {
-            for k in 0..n {
-                a.swap(col * n + k, piv * n + k);
-            }
-            b.swap(col, piv);
-        }
-        let p = a[col * n + col];
-        if p.norm() <= 1e-300 + 1e-14 * scale {
-            continue;
-        }
-        for i in col + 1..n {
-            let f = a[i * n + col] / p;
-            if f.norm() == 0.0 {
-                continue;
-            }
-            for k in col..n {
-                let v = a[col * n + k];
-                a[i * n + k] -= f * v;
-            }
-            let v = b[col];
-            b[i] -= f * v;
-        }
-    }
-    for col in (0..n).rev() {
-        let mut s = b[col];
-        for k in col + 1..n {
-            s -= a[col * n + k] * b[k];
-        }
-        let p = a[col * n + col];
-        if p.norm() <= 1e-300 + 1e-14 * scale {
-            if s.norm() <= 1e-14 * (1.0 + b.iter().fold(0.0f64, |m, z| m.max(z.norm()))) {
-                b[col] = Complex64::new(0.0, 0.0);
-                continue;
-            }
-            return Err(format!("zero pivot for unknown {col}"));
-        }
-        b[col] = s / p;
-    }
-    Ok(())
+    let tiny = 1e-300 + 1e-14 * scale;
+    let mut piv = vec![0; n];
+    crate::linalg::complex_lu_factor(a, n, &mut piv, tiny);
+    crate::linalg::complex_lu_solve_consistent(a, n, &piv, tiny, b)
+        .map_err(|k| format!("zero pivot for unknown {k}"))
 }

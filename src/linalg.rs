@@ -1,4 +1,5 @@
-//! Dense LU with a reusable workspace (faer's allocation-free kernels).
+//! Dense LU factorisations: real ([`DenseLu`], faer's allocation-free kernels) and
+//! complex (row-major slices, [`complex_lu_factor`]).
 //!
 //! Newton and continuation solve many small systems of the same size; keeping the
 //! permutation and scratch buffers between solves keeps the hot loop allocation-free.
@@ -6,6 +7,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor;
 use faer::{Mat, MatMut, Par};
+use num_complex::Complex64;
 
 /// LU factorisation with partial pivoting, factor and solve in place.
 pub struct DenseLu {
@@ -105,6 +107,132 @@ impl DenseLu {
     }
 }
 
+/// LU factorisation with partial pivoting of the row-major complex `n × n` matrix `a`
+/// in place (`P·A = L·U`, `L` unit lower triangular below the diagonal, `U` on and
+/// above it; `piv[k]` the row swapped into row `k`). A pivot of magnitude not above
+/// `tiny` (or not finite) is *singular*: its column is left uneliminated (multipliers
+/// zero). Returns the number of singular pivots; the factors solve only if it is 0,
+/// except through [`complex_lu_solve_consistent`].
+///
+/// Hand-written rather than faer's: the systems are small (the Hill matrices of a few
+/// DOFs, `n` ≲ 100; the per-harmonic `ndof × ndof` systems of the linearised start),
+/// and a plain loop allocates nothing and needs no setup.
+pub fn complex_lu_factor(a: &mut [Complex64], n: usize, piv: &mut [usize], tiny: f64) -> usize {
+    let zero = Complex64::new(0.0, 0.0);
+    let mut singular = 0;
+    for k in 0..n {
+        let mut p = k;
+        let mut best = a[k * n + k].norm_sqr();
+        for i in k + 1..n {
+            let v = a[i * n + k].norm_sqr();
+            if v > best {
+                best = v;
+                p = i;
+            }
+        }
+        piv[k] = p;
+        if p != k {
+            let (top, rest) = a.split_at_mut(p * n);
+            top[k * n..(k + 1) * n].swap_with_slice(&mut rest[..n]);
+        }
+        if !(best.sqrt() > tiny && best.is_finite()) {
+            singular += 1;
+            for row in a[(k + 1) * n..].chunks_exact_mut(n) {
+                row[k] = zero;
+            }
+            continue;
+        }
+        let inv = a[k * n + k].inv();
+        let (top, rest) = a.split_at_mut((k + 1) * n);
+        let rowk = &top[k * n + k + 1..(k + 1) * n];
+        for row in rest.chunks_exact_mut(n) {
+            let f = row[k] * inv;
+            row[k] = f;
+            if f != zero {
+                for (x, &y) in row[k + 1..].iter_mut().zip(rowk) {
+                    *x -= f * y;
+                }
+            }
+        }
+    }
+    singular
+}
+
+/// `b ← L⁻¹ P b` with the factors of [`complex_lu_factor`].
+fn complex_forward(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
+    // The factors are those of P·A (rows swapped in full): all swaps first.
+    for (k, &p) in piv.iter().enumerate().take(n) {
+        b.swap(k, p);
+    }
+    // Row-wise dot products (contiguous rows of L), not column updates.
+    for i in 1..n {
+        let row = &a[i * n..i * n + i];
+        let s: Complex64 = row.iter().zip(&b[..i]).map(|(x, y)| x * y).sum();
+        b[i] -= s;
+    }
+}
+
+/// Solve `A x = b` in place with the factors of [`complex_lu_factor`] (no singular
+/// pivot).
+pub fn complex_lu_solve(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
+    complex_forward(a, n, piv, b);
+    for k in (0..n).rev() {
+        let row = &a[k * n..(k + 1) * n];
+        let s: Complex64 = row[k + 1..].iter().zip(&b[k + 1..]).map(|(x, y)| x * y).sum();
+        b[k] = (b[k] - s) / row[k];
+    }
+}
+
+/// Solve `A x = b` where `A` may be singular but the system consistent: an unknown
+/// whose pivot is singular (magnitude not above `tiny`) gets 0 if its equation's
+/// residual is at rounding level (`1e-14` relative), `Err(k)` (the unknown) if not.
+pub fn complex_lu_solve_consistent(
+    a: &[Complex64],
+    n: usize,
+    piv: &[usize],
+    tiny: f64,
+    b: &mut [Complex64],
+) -> std::result::Result<(), usize> {
+    complex_forward(a, n, piv, b);
+    for k in (0..n).rev() {
+        let row = &a[k * n..(k + 1) * n];
+        let s = b[k] - row[k + 1..].iter().zip(&b[k + 1..]).map(|(x, y)| x * y).sum::<Complex64>();
+        if row[k].norm() <= tiny || row[k].norm().is_nan() {
+            if s.norm() <= 1e-14 * (1.0 + b.iter().fold(0.0f64, |m, z| m.max(z.norm()))) {
+                b[k] = Complex64::new(0.0, 0.0);
+                continue;
+            }
+            return Err(k);
+        }
+        b[k] = s / row[k];
+    }
+    Ok(())
+}
+
+/// Solve `Aᴴ w = b` in place with the factors of [`complex_lu_factor`] (`P A = L U`,
+/// so `Aᴴ = Uᴴ Lᴴ P`).
+pub fn complex_lu_solve_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mut [Complex64]) {
+    // Uᴴ is lower triangular with the rows of U as its columns: column updates read
+    // contiguous rows.
+    for k in 0..n {
+        let row = &a[k * n..(k + 1) * n];
+        let bk = b[k] / row[k].conj();
+        b[k] = bk;
+        for (x, u) in b[k + 1..].iter_mut().zip(&row[k + 1..]) {
+            *x -= u.conj() * bk;
+        }
+    }
+    for k in (0..n).rev() {
+        let bk = b[k];
+        for i in 0..k {
+            b[i] -= a[k * n + i].conj() * bk;
+        }
+    }
+    for (k, &p) in piv.iter().enumerate().take(n).rev() {
+        b.swap(k, p);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -163,5 +291,78 @@ mod tests {
         for (p, q) in x.iter().zip(&y) {
             assert!((p - q).abs() < 1e-13 * (1.0 + q.abs()));
         }
+    }
+
+    #[test]
+    fn complex_lu_solves_with_pivoting() {
+        // A matrix whose first pivot is zero: pivoting is required.
+        let n = 7;
+        let a: Vec<Complex64> = (0..n * n)
+            .map(|k| {
+                let (i, j) = (k / n, k % n);
+                if i == 0 && j == 0 {
+                    Complex64::new(0.0, 0.0)
+                } else {
+                    let re = ((i * 7 + j * 3) % 11) as f64 - 5.0;
+                    Complex64::new(re, ((i + 2 * j) % 3) as f64)
+                }
+            })
+            .collect();
+        let x: Vec<Complex64> = (0..n).map(|i| Complex64::new(i as f64 - 2.0, 0.5)).collect();
+        let mut b: Vec<Complex64> =
+            (0..n).map(|i| (0..n).map(|j| a[i * n + j] * x[j]).sum()).collect();
+        let mut lu = a.clone();
+        let mut piv = vec![0; n];
+        assert_eq!(complex_lu_factor(&mut lu, n, &mut piv, 0.0), 0);
+        complex_lu_solve(&lu, n, &piv, &mut b);
+        for (bi, xi) in b.iter().zip(&x) {
+            assert!((bi - xi).norm() < 1e-12, "{bi} vs {xi}");
+        }
+        // The stored factors solve another right-hand side (the reuse in stability's `newton`).
+        let y: Vec<Complex64> = (0..n).map(|i| Complex64::new(0.3, i as f64)).collect();
+        let mut c: Vec<Complex64> =
+            (0..n).map(|i| (0..n).map(|j| a[i * n + j] * y[j]).sum()).collect();
+        complex_lu_solve(&lu, n, &piv, &mut c);
+        for (ci, yi) in c.iter().zip(&y) {
+            assert!((ci - yi).norm() < 1e-12, "{ci} vs {yi}");
+        }
+        assert!(piv.iter().enumerate().filter(|&(k, &p)| p != k).count() >= 2, "{piv:?}");
+        // And the adjoint system Aᴴ y = d (the Rayleigh step in stability's `newton`).
+        let mut d: Vec<Complex64> =
+            (0..n).map(|i| (0..n).map(|j| a[j * n + i].conj() * y[j]).sum()).collect();
+        complex_lu_solve_adjoint(&lu, n, &piv, &mut d);
+        for (di, yi) in d.iter().zip(&y) {
+            assert!((di - yi).norm() < 1e-12, "{di} vs {yi}");
+        }
+    }
+
+    #[test]
+    fn complex_consistent_solve_zeroes_a_free_unknown() {
+        // Unknown 1 has no equation of its own (a zero column and row): consistent
+        // right-hand side gives it 0, an inconsistent one names it.
+        let z = Complex64::new(0.0, 0.0);
+        let a = [
+            Complex64::new(2.0, 1.0),
+            z,
+            Complex64::new(1.0, 0.0),
+            z,
+            z,
+            z,
+            Complex64::new(1.0, 0.0),
+            z,
+            Complex64::new(3.0, 0.0),
+        ];
+        let mut lu = a;
+        let mut piv = [0; 3];
+        assert_eq!(complex_lu_factor(&mut lu, 3, &mut piv, 1e-14), 1);
+        let x = [Complex64::new(1.0, -1.0), z, Complex64::new(0.5, 2.0)];
+        let mut b: Vec<Complex64> =
+            (0..3).map(|i| (0..3).map(|j| a[i * 3 + j] * x[j]).sum()).collect();
+        assert_eq!(complex_lu_solve_consistent(&lu, 3, &piv, 1e-14, &mut b), Ok(()));
+        for (bi, xi) in b.iter().zip(&x) {
+            assert!((bi - xi).norm() < 1e-14, "{bi} vs {xi}");
+        }
+        let mut bad = vec![z, Complex64::new(1.0, 0.0), z];
+        assert_eq!(complex_lu_solve_consistent(&lu, 3, &piv, 1e-14, &mut bad), Err(1));
     }
 }

@@ -1,4 +1,5 @@
-//! Hill stability: closed forms, centring, tracking, time integration.
+//! Hill stability: closed forms, centring, tracking, time integration, chains against
+//! their monodromy matrices.
 //!
 //! One test binary per area (each integration-test binary links the whole crate, and
 //! linking one per file dominated a fresh `cargo test`); the tests are in `tests/stability/`.
@@ -11,6 +12,8 @@ mod common;
 mod fractional;
 #[path = "stability/mathieu.rs"]
 mod mathieu;
+#[path = "stability/scale.rs"]
+mod scale;
 #[path = "stability/timedomain.rs"]
 mod timedomain;
 #[path = "stability/tracking.rs"]

@@ -12,7 +12,7 @@
 //! zero initial displacement and velocity equals the Riemann–Liouville derivative, so
 //! the plain quadrature needs no starting correction (see [`newmark`]).
 //!
-//! # Accuracy (measured by the tests in `tests/timedomain_*.rs`)
+//! # Accuracy (measured by the tests in `tests/timedomain/`)
 //!
 //! - Observed orders over a fixed horizon from rest: GL 0.9–1.2, BDF2 2.00 on the
 //!   fractional Duffing (p = 0.5 and 1.5) and the quarter car. Newmark is second

@@ -1,0 +1,90 @@
+//! Stability at scale: whole curves of an n-mass chain (each link a linear + cubic
+//! spring with a viscous and a fractional damper of order 0.5, forcing on the last
+//! mass; Ω from 0.05 to 2.5) for n = 2, 5, 10, 20 at N = 5 and 11, with Hill stability
+//! at every point and without it, and the quarter car (1 → 100 rad/s, N = 5).
+//!
+//! Before criterion's samples, each case runs once and prints its table row (points,
+//! times, ratio, full analyses). The slow cases (with stability beyond n = 5 at
+//! N = 11 or n = 10 at N = 5) run only with `IHBM_BENCH_BIG=1` set; filter with
+//! `cargo bench --bench stability -- chain10`.
+use criterion::{criterion_group, criterion_main, Criterion};
+use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::model::Model;
+use ihbm::models::QuarterCar;
+use std::hint::black_box;
+use std::time::Instant;
+
+mod chains;
+use chains::{Chain10, Chain2, Chain20, Chain5};
+
+/// One table row for `model` on `from..to` at `nh` harmonics, then criterion's samples
+/// of the curve with and without stability (`with` false: without only).
+fn case<M: Model>(
+    c: &mut Criterion,
+    name: &str,
+    model: &M,
+    span: (f64, f64),
+    nh: usize,
+    with: bool,
+) {
+    let (from, to) = span;
+    let on = SweepOptions { harmonics: nh, ..Default::default() };
+    let off = SweepOptions { stability: None, ..on.clone() };
+    // Criterion's filter, applied here too, so that the table rows of the cases left
+    // out are not computed either.
+    let mut filters = std::env::args().skip(1).filter(|a| !a.starts_with('-')).peekable();
+    if filters.peek().is_some() && !filters.any(|a| name.contains(&a)) {
+        return;
+    }
+    let t = Instant::now();
+    let bare = sweep(model, from, to, &off).expect("curve without stability");
+    let t_off = t.elapsed().as_secs_f64();
+    let unknowns = model.dofs().len() * (2 * nh + 1);
+    if with {
+        let t = Instant::now();
+        let full = sweep(model, from, to, &on).expect("curve with stability");
+        let t_on = t.elapsed().as_secs_f64();
+        eprintln!(
+            "| {name} | {nh} | {unknowns} | {} | {t_off:.3} s | {t_on:.3} s | {:.1} | {} of {} |",
+            full.points.len(),
+            t_on / t_off,
+            full.stats.stability_full,
+            full.points.len()
+        );
+    } else {
+        eprintln!(
+            "| {name} | {nh} | {unknowns} | {} | {t_off:.3} s | (not run) | | |",
+            bare.points.len()
+        );
+    }
+    let mut g = c.benchmark_group("stability_scale");
+    g.sample_size(10);
+    g.bench_function(format!("{name}_N{nh}_no_stability"), |b| {
+        b.iter(|| sweep(black_box(model), from, to, &off).expect("curve"))
+    });
+    if with {
+        g.bench_function(format!("{name}_N{nh}_with_stability"), |b| {
+            b.iter(|| sweep(black_box(model), from, to, &on).expect("curve"))
+        });
+    }
+    g.finish();
+}
+
+fn chains(c: &mut Criterion) {
+    let big = std::env::var("IHBM_BENCH_BIG").is_ok();
+    let span = (0.05, 2.5);
+    eprintln!(
+        "| case | N | unknowns | points | without stability | with | ratio | full analyses |"
+    );
+    eprintln!("|---|---|---|---|---|---|---|---|");
+    case(c, "quarter_car", &QuarterCar::default(), (1.0, 100.0), 5, true);
+    for nh in [5, 11] {
+        case(c, "chain2", &Chain2::default(), span, nh, true);
+        case(c, "chain5", &Chain5::default(), span, nh, nh == 5 || big);
+        case(c, "chain10", &Chain10::default(), span, nh, big);
+        case(c, "chain20", &Chain20::default(), span, nh, big);
+    }
+}
+
+criterion_group!(benches, chains);
+criterion_main!(benches);

@@ -1,0 +1,139 @@
+//! The eigenvalues of the (frozen-order) matrix polynomial with their eigenvectors:
+//! companion linearisation and a real eigendecomposition, QZ on the companion pencil
+//! when the leading matrix is singular.
+
+use super::*;
+
+impl Hill {
+    /// Selected (centred) eigenvalues of the matrix polynomial into `self.cands`, not
+    /// folded.
+    pub(super) fn candidates(&mut self, params: &[f64], omega: f64) -> Result<()> {
+        use faer::linalg::lu::partial_pivoting::{factor, solve};
+        let (m, d) = (self.m, self.degree);
+        let big = d * m;
+        let count = self.central_count();
+        let lead = &self.coef[d];
+        self.lead = Mat::from_fn(m, m, |i, j| lead[i * m + j]);
+        let scale = self.lead.norm_max();
+        let (_, perm) = factor::lu_in_place(
+            self.lead.as_mut(),
+            &mut self.perm,
+            &mut self.perm_inv,
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        );
+        let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
+        self.cands.clear();
+        if min_pivot.is_nan() || min_pivot <= 1e-12 * scale {
+            return self.candidates_generalized(params, omega);
+        }
+        // Companion: [[0, I, ...], ..., [-L⁻¹M_0, ..., -L⁻¹M_{d-1}]].
+        self.companion.fill(0.0);
+        for b in 0..d - 1 {
+            for i in 0..m {
+                self.companion[(b * m + i, (b + 1) * m + i)] = 1.0;
+            }
+        }
+        for r in 0..d {
+            for i in 0..m {
+                for jj in 0..m {
+                    self.companion[((d - 1) * m + i, r * m + jj)] = -self.coef[r][i * m + jj];
+                }
+            }
+        }
+        {
+            let rows = self.companion.as_mut().subrows_mut((d - 1) * m, m);
+            solve::solve_in_place(
+                self.lead.as_ref(),
+                self.lead.as_ref(),
+                perm,
+                rows,
+                Par::Seq,
+                MemStack::new(&mut self.mem),
+            );
+        }
+        faer::linalg::evd::evd_real(
+            self.companion.as_ref(),
+            faer::diag::DiagMut::from_slice_mut(&mut self.s_re),
+            faer::diag::DiagMut::from_slice_mut(&mut self.s_im),
+            None,
+            Some(self.vectors.as_mut()),
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        )
+        .map_err(|e| {
+            Error::Other(format!("Hill's method: eigenvalues failed at Ω = {omega}: {e:?}"))
+        })?;
+        // The eigenvectors come with the decomposition: the first block of a companion
+        // eigenvector `[v, λv, …]` is `v`. (One inverse iteration per eigenvalue, as
+        // before, cost `m` factorisations of size `m`: O(m⁴), the bulk of a full
+        // analysis beyond two DOFs.) A complex pair is stored as the real and
+        // imaginary parts in two consecutive columns.
+        let mut spreads = Vec::with_capacity(big);
+        let mut v = vec![Complex64::new(0.0, 0.0); m];
+        let mut i = 0;
+        while i < big {
+            let im = self.s_im[i];
+            let pair = im != 0.0 && i + 1 < big;
+            for (r, z) in v.iter_mut().enumerate() {
+                let b = if pair { self.vectors[(r, i + 1)] } else { 0.0 };
+                *z = Complex64::new(self.vectors[(r, i)], b);
+            }
+            let sp = spread(&v, self.ndof, self.harmonics);
+            self.cands.push(Complex64::new(self.s_re[i], im));
+            spreads.push(sp);
+            if pair {
+                self.cands.push(Complex64::new(self.s_re[i + 1], self.s_im[i + 1]));
+                spreads.push(Spread { centre: -sp.centre, spread: sp.spread });
+                i += 2;
+            } else {
+                i += 1;
+            }
+        }
+        self.select_centred(params, omega, count, Some(&spreads));
+        Ok(())
+    }
+
+    /// Fallback for a singular leading matrix: the companion pencil, QZ.
+    pub(super) fn candidates_generalized(&mut self, params: &[f64], omega: f64) -> Result<()> {
+        let (m, d) = (self.m, self.degree);
+        let big = d * m;
+        let mut a = Mat::<f64>::zeros(big, big);
+        let mut b = Mat::<f64>::zeros(big, big);
+        for blk in 0..d - 1 {
+            for i in 0..m {
+                a[(blk * m + i, (blk + 1) * m + i)] = 1.0;
+                b[(blk * m + i, blk * m + i)] = 1.0;
+            }
+        }
+        for r in 0..d {
+            for i in 0..m {
+                for jj in 0..m {
+                    a[((d - 1) * m + i, r * m + jj)] = -self.coef[r][i * m + jj];
+                }
+            }
+        }
+        for i in 0..m {
+            for jj in 0..m {
+                b[((d - 1) * m + i, (d - 1) * m + jj)] = self.coef[d][i * m + jj];
+            }
+        }
+        let ge = a.generalized_eigen(&b).map_err(|e| {
+            Error::Other(format!(
+                "Hill's method: generalized eigenvalues failed at Ω = {omega}: {e:?}"
+            ))
+        })?;
+        let (sa, sb) = (ge.S_a(), ge.S_b());
+        for i in 0..big {
+            let (x, y) = (sa[i], sb[i]);
+            if y.norm() > 1e-12 * x.norm().max(1e-300) {
+                self.cands.push(x / y);
+            }
+        }
+        let count = (self.cands.len() / self.len).max(1).min(self.cands.len());
+        self.select_centred(params, omega, count, None);
+        Ok(())
+    }
+}
