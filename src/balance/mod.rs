@@ -21,6 +21,14 @@ use num_complex::Complex64;
 use num_dual::Dual64;
 use std::f64::consts::FRAC_PI_2;
 
+mod linear;
+mod size;
+mod structure;
+
+pub use linear::linearized_guess;
+pub(crate) use linear::linearized_on;
+pub use size::{check_size, MEMORY_LIMIT};
+
 /// Residual and derivatives of the harmonic balance equations of one model.
 ///
 /// Parameters are copied at construction (change them with [`Balance::set_param`]);
@@ -107,58 +115,6 @@ pub fn check_inputs(harmonics: usize, omega: f64) -> Result<()> {
     Ok(())
 }
 
-/// Memory the dense harmonic-balance solvers may take: the Jacobians of the corrector
-/// and of the continuation (with its LU workspace) are `L × L` with
-/// `L = ndof (2N + 1)` unknowns, about `3 · 8 L²` bytes together.
-pub const MEMORY_LIMIT: f64 = 4.0 * (1u64 << 30) as f64;
-
-/// Refuse a harmonic count whose dense Jacobians would not fit in [`MEMORY_LIMIT`]
-/// (estimated before anything is allocated, in floating point so that no size
-/// overflows), naming the largest N that fits.
-///
-/// ```
-/// use ihbm::balance::check_size;
-/// assert!(check_size(2, 5).is_ok());
-/// let e = check_size(2, 100_000).unwrap_err().to_string();
-/// assert!(e.contains("the largest N that fits is 3343"), "{e}");
-/// assert!(check_size(2, usize::MAX).is_err());
-/// ```
-pub fn check_size(ndof: usize, harmonics: usize) -> Result<()> {
-    let bytes = |n: usize| {
-        let l = ndof as f64 * (2.0 * n as f64 + 1.0) + 1.0;
-        24.0 * l * l
-    };
-    if bytes(harmonics) <= MEMORY_LIMIT {
-        return Ok(());
-    }
-    // 24 (ndof (2N + 1) + 1)² <= limit
-    let lmax = (MEMORY_LIMIT / 24.0).sqrt() - 1.0;
-    let largest = ((lmax / ndof.max(1) as f64 - 1.0) / 2.0).floor().max(0.0) as usize;
-    Err(Error::TooLarge {
-        harmonics,
-        dofs: ndof,
-        what: "harmonic-balance Jacobians".into(),
-        needed: readable_bytes(bytes(harmonics)),
-        limit: readable_bytes(MEMORY_LIMIT),
-        largest,
-    })
-}
-
-/// `1.3 TB`, `4 GiB`-style sizes for messages.
-fn readable_bytes(b: f64) -> String {
-    const UNITS: [&str; 7] = ["B", "kB", "MB", "GB", "TB", "PB", "EB"];
-    let mut v = b;
-    let mut u = 0;
-    while v >= 1000.0 && u + 1 < UNITS.len() {
-        v /= 1000.0;
-        u += 1;
-    }
-    if u + 1 == UNITS.len() && v >= 1000.0 {
-        return format!("{b:.1e} B");
-    }
-    format!("{v:.1} {}", UNITS[u])
-}
-
 impl<'m, M: Model> Balance<'m, M> {
     /// Buffers and FFT plans for `model` with `harmonics` harmonics.
     pub fn new(model: &'m M, harmonics: usize) -> Result<Self> {
@@ -231,82 +187,6 @@ impl<'m, M: Model> Balance<'m, M> {
         }
         self.sig_valid = false;
         self.grad_valid = false;
-    }
-
-    /// Adopt the model's structure claims ([`Model::affine_signals`],
-    /// [`Model::explicit_omega`]) after testing them at a few pseudo-random states: a
-    /// wrong claim would silently give wrong Jacobians, so it is an error here.
-    fn check_structure(&mut self) -> Result<()> {
-        let model = self.model;
-        let claimed = model.affine_signals();
-        if claimed.is_empty() && self.explicit_omega {
-            return Ok(());
-        }
-        if !claimed.is_empty() && claimed.len() != self.nsig {
-            return Err(Error::Other(format!(
-                "model '{}': affine_signals() has {} entries for {} signals",
-                model.name(),
-                claimed.len(),
-                self.nsig
-            )));
-        }
-        let (nsig, ndof) = (self.nsig, self.ndof);
-        let params: Vec<Dual64> = self.params.iter().map(|&p| Dual64::from_re(p)).collect();
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut rand = move || {
-            // xorshift: reproducible states in [-1, 1]
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        };
-        let mut sig = vec![Dual64::from_re(0.0); nsig];
-        let mut out = vec![Dual64::from_re(0.0); ndof];
-        let mut first: Vec<f64> = vec![f64::NAN; ndof * nsig];
-        for probe in 0..3 {
-            let values: Vec<f64> = (0..nsig).map(|_| 2.0 * rand()).collect();
-            let phase = std::f64::consts::PI * (1.0 + rand());
-            let omega = 1.7;
-            if !self.explicit_omega {
-                for (d, &v) in sig.iter_mut().zip(&values) {
-                    *d = Dual64::from_re(v);
-                }
-                model.residual(&params, Dual64::new(omega, 1.0), phase, &sig, &mut out);
-                if let Some(e) = (0..ndof).find(|&e| out[e].eps != 0.0) {
-                    return Err(Error::Other(format!(
-                        "model '{}' says explicit_omega() == false, but equation {e} changes with Ω at \
-                         fixed signals; return true (the default)",
-                        model.name()
-                    )));
-                }
-            }
-            for s0 in (0..nsig).filter(|&s| claimed.get(s) == Some(&true)) {
-                for (s, (d, &v)) in sig.iter_mut().zip(&values).enumerate() {
-                    *d = Dual64::new(v, if s == s0 { 1.0 } else { 0.0 });
-                }
-                model.residual(&params, Dual64::from_re(omega), phase, &sig, &mut out);
-                for e in 0..ndof {
-                    let (g, g0) = (out[e].eps, &mut first[e * nsig + s0]);
-                    if probe == 0 {
-                        *g0 = g;
-                    } else if (g - *g0).abs() > 1e-12 * g.abs().max(g0.abs()) {
-                        return Err(Error::Other(format!(
-                            "model '{}' says signal {s0} is affine (affine_signals), but \
-                             ∂r{e}/∂s{s0} is {} at one state and {g} at another; mark it \
-                             false or return &[] (the default)",
-                            model.name(),
-                            *g0
-                        )));
-                    }
-                }
-            }
-        }
-        // Gradients may depend on parameters and Ω (fixed across probes above): the
-        // probe tests the structure; `jacobian` evaluates them at the current point.
-        for (a, &c) in self.affine.iter_mut().zip(claimed) {
-            *a = c;
-        }
-        Ok(())
     }
 
     /// Length of the unknown vector: `ndof · (2N + 1)`.
@@ -671,93 +551,4 @@ pub(crate) fn add_block(
         let up = lam[j] * Complex64::new(0.0, -0.5);
         column(col0 + n + j, j, up, up.conj());
     }
-}
-
-/// The exact periodic solution of the model linearized about zero: per harmonic, the
-/// complex system `Σ_d T_k[e][d] X_{d,k} = -F_{e,k}` with
-/// `T_k[e][d] = Σ_s ∂r_e/∂s · c_{s,d} · (ikΩ)^{q_s}`. The default initial guess.
-///
-/// ```
-/// use ihbm::balance::linearized_guess;
-/// use ihbm::models::Duffing;
-/// // with k3 = 0 the Duffing oscillator is linear: X = F / (k - mΩ² + icΩ)
-/// let mut m = Duffing::default();
-/// m.k3 = 0.0;
-/// let a = linearized_guess(&m, 2.0, 3).unwrap();
-/// let den = num_complex::Complex64::new(m.k - m.m * 4.0, m.c * 2.0);
-/// let x = num_complex::Complex64::new(m.F, 0.0) / den;
-/// assert!((a[1] - x.re).abs() < 1e-14 && (a[4] + x.im).abs() < 1e-14);
-/// ```
-pub fn linearized_guess<M: Model>(model: &M, omega: f64, harmonics: usize) -> Result<Vec<f64>> {
-    check_inputs(harmonics, omega)?;
-    let mut hb = Balance::new(model, harmonics)?;
-    Ok(linearized_on(&mut hb, omega)?.0)
-}
-
-/// [`linearized_guess`] on an existing [`Balance`]; also returns `R(0)`, the residual
-/// at rest (minus the forcing), which the corrector uses as its residual scale.
-pub(crate) fn linearized_on<M: Model>(
-    hb: &mut Balance<'_, M>,
-    omega: f64,
-) -> Result<(Vec<f64>, Vec<f64>)> {
-    let model = hb.model;
-    let (n, ndof, nsig, m) = (hb.n, hb.ndof, hb.nsig, hb.m);
-    let l = coeff_len(n);
-    let zero = vec![0.0; hb.len()];
-    let mut r0 = vec![0.0; hb.len()];
-    let mut jac = faer::Mat::<f64>::zeros(hb.len(), hb.len());
-    hb.jacobian(&zero, omega, &mut r0, jac.as_mut());
-    // ∂r/∂s at rest; constant in time for additive forcing, averaged otherwise
-    let gbar: Vec<f64> = (0..ndof * nsig)
-        .map(|i| hb.grad[i * m..(i + 1) * m].iter().sum::<f64>() / m as f64)
-        .collect();
-    let mut a = vec![0.0; hb.len()];
-    let mut t = vec![Complex64::new(0.0, 0.0); ndof * ndof];
-    let mut x = vec![Complex64::new(0.0, 0.0); ndof];
-    for k in 0..=n {
-        t.fill(Complex64::new(0.0, 0.0));
-        for e in 0..ndof {
-            for (s, sig) in model.signals().iter().enumerate() {
-                let lam = spectral_factor(k, omega, hb.orders[s]);
-                for &(d, c) in sig.terms.iter() {
-                    t[e * ndof + d] += lam * (gbar[e * nsig + s] * c);
-                }
-            }
-            x[e] = if k == 0 {
-                Complex64::new(-r0[e * l], 0.0)
-            } else {
-                -Complex64::new(r0[e * l + k], -r0[e * l + n + k])
-            };
-        }
-        complex_solve(&mut t, &mut x, ndof).map_err(|detail| Error::SingularJacobian {
-            omega,
-            detail: format!(
-                "the model linearized about zero is singular at harmonic {k} ({detail}); \
-                 give an initial guess instead"
-            ),
-        })?;
-        for d in 0..ndof {
-            a[d * l + k] = x[d].re;
-            if k > 0 {
-                a[d * l + n + k] = -x[d].im;
-            }
-        }
-    }
-    Ok((a, r0))
-}
-
-/// Solve a small dense complex system (row-major `a`, right-hand side `b` overwritten
-/// by the solution). A zero pivot with a zero right-hand side gives the zero solution
-/// for that unknown.
-fn complex_solve(
-    a: &mut [Complex64],
-    b: &mut [Complex64],
-    n: usize,
-) -> std::result::Result<(), String> {
-    let scale = a.iter().fold(0.0f64, |s, z| s.max(z.norm()));
-    let tiny = 1e-300 + 1e-14 * scale;
-    let mut piv = vec![0; n];
-    crate::linalg::complex_lu_factor(a, n, &mut piv, tiny);
-    crate::linalg::complex_lu_solve_consistent(a, n, &piv, tiny, b)
-        .map_err(|k| format!("zero pivot for unknown {k}"))
 }
