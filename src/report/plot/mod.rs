@@ -10,15 +10,19 @@
 //! figure, never in the CSV/JSON. The legend goes where it covers no curve
 //! ([`super::legend`]).
 
+mod key;
+mod svg;
+
 use super::legend::{self, Placement, Rect};
 use super::smooth::Spline;
 use super::FreqUnit;
 use crate::error::Error;
 use crate::results::{Curve, CurvePoint};
+use key::{draw_legend, legend_size, marker_key, Key};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
-use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+use svg::{svg_polyline, CurveSlots};
 
 /// One curve of a family, with its legend label (e.g. `"k3 = 3e6"`).
 #[derive(Debug, Clone)]
@@ -108,66 +112,6 @@ pub fn figure_svg(fig: &Figure) -> Result<String, Error> {
         root.present().map_err(plot_err)?;
     }
     slots.fill(svg)
-}
-
-/// Curves written as SVG polylines at sub-pixel precision. plotters hands its backends
-/// whole-pixel coordinates, which turns a curve drawn through points a few pixels apart
-/// into a staircase; so a panel draws a placeholder text where its curves belong in the
-/// stacking order (over the grid, under markers and legend) and [`CurveSlots::fill`]
-/// replaces it by the polylines once plotters is done.
-#[derive(Debug, Default)]
-struct CurveSlots {
-    svg: Vec<String>,
-}
-
-impl CurveSlots {
-    fn token(k: usize) -> String {
-        format!("ihbm-curve-slot-{k}-end")
-    }
-
-    /// Reserve a slot for `polylines` and draw its placeholder on `area`.
-    fn reserve(
-        &mut self,
-        area: &DrawingArea<SVGBackend, Shift>,
-        polylines: String,
-    ) -> Result<(), Error> {
-        let token = Self::token(self.svg.len());
-        self.svg.push(polylines);
-        area.draw_text(&token, &("sans-serif", 1).into_font().color(&WHITE), (0, 0))
-            .map_err(plot_err)
-    }
-
-    /// Replace every placeholder `<text ...>token</text>` by its polylines.
-    fn fill(self, mut svg: String) -> Result<String, Error> {
-        for (k, lines) in self.svg.iter().enumerate() {
-            let token = Self::token(k);
-            let found = svg.find(&token).and_then(|at| {
-                let start = svg[..at].rfind("<text")?;
-                let end = at + svg[at..].find("</text>")? + "</text>".len();
-                Some((start, end))
-            });
-            let Some((start, end)) = found else {
-                return Err(Error::Other(format!("drawing a figure failed: curve slot {k} lost")));
-            };
-            svg.replace_range(start..end, lines);
-        }
-        Ok(svg)
-    }
-}
-
-/// One SVG polyline in pixels (two decimals), dashed 6–4 when `dashed`.
-fn svg_polyline(pts: impl Iterator<Item = (f64, f64)>, color: RGBColor, dashed: bool) -> String {
-    use std::fmt::Write;
-    let RGBColor(r, g, b) = color;
-    let dash = if dashed { r#" stroke-dasharray="6 4""# } else { "" };
-    let mut s = format!(
-        r##"<polyline fill="none" opacity="1" stroke="#{r:02X}{g:02X}{b:02X}" stroke-width="2" stroke-linejoin="round"{dash} points=""##
-    );
-    for (x, y) in pts {
-        let _ = write!(s, "{x:.2},{y:.2} ");
-    }
-    s.push_str("\"/>\n");
-    s
 }
 
 /// The x axis: Ω in the figure's unit, or the parameter of a parameter sweep (the
@@ -264,86 +208,6 @@ fn runs(curve: &Curve, idx: usize, axis: XAxis, scale: (f64, f64)) -> Vec<Run> {
         }
     }
     out
-}
-
-/// How a legend entry's key is drawn.
-#[derive(Debug, Clone, Copy)]
-enum Key {
-    /// A series' colour, solid.
-    Line(RGBColor),
-    /// Black, dashed: unstable branches.
-    Dashed,
-    /// A filled triangle: folds.
-    Fold,
-    /// A short vertical dotted line: jumps.
-    Jump,
-    /// An open circle: the first kind of time-domain marker.
-    Circle,
-    /// A cross: the second kind.
-    Cross,
-}
-
-/// The shape of the `k`-th kind of time-domain marker.
-fn marker_key(k: usize) -> Key {
-    if k % 2 == 0 {
-        Key::Circle
-    } else {
-        Key::Cross
-    }
-}
-
-const LEGEND_FONT: u32 = 13;
-const LEGEND_ROW: f64 = 17.0;
-const LEGEND_PAD: f64 = 6.0;
-const LEGEND_KEY_W: f64 = 30.0;
-
-/// Width and height of the legend box, pixels. The SVG has no font metrics; plotters
-/// writes text at size/1.24, and sans-serif glyphs average under 0.6 em, so 0.6 em per
-/// character is a safe width.
-fn legend_size(entries: &[(String, Key)]) -> (f64, f64) {
-    let em = f64::from(LEGEND_FONT) / 1.24;
-    let chars = entries.iter().map(|(l, _)| l.chars().count()).max().unwrap_or(0);
-    (
-        2.0 * LEGEND_PAD + LEGEND_KEY_W + 0.6 * em * chars as f64,
-        2.0 * LEGEND_PAD + LEGEND_ROW * entries.len() as f64,
-    )
-}
-
-/// Draw the legend box with its top-left corner at `at` (pixels in `area`).
-fn draw_legend(
-    area: &DrawingArea<SVGBackend, Shift>,
-    at: (i32, i32),
-    size: (f64, f64),
-    entries: &[(String, Key)],
-) -> Result<(), Error> {
-    let (x, y) = at;
-    let corner = (x + size.0.round() as i32, y + size.1.round() as i32);
-    area.draw(&Rectangle::new([at, corner], WHITE.mix(0.85).filled())).map_err(plot_err)?;
-    area.draw(&Rectangle::new([at, corner], BLACK)).map_err(plot_err)?;
-    let font = ("sans-serif", LEGEND_FONT).into_font().color(&BLACK);
-    for (row, (label, key)) in entries.iter().enumerate() {
-        let top = y + (LEGEND_PAD + LEGEND_ROW * row as f64).round() as i32;
-        let mid = top + (LEGEND_ROW / 2.0).round() as i32;
-        let kx = x + LEGEND_PAD as i32;
-        let line = vec![(kx, mid), (kx + 20, mid)];
-        match *key {
-            Key::Line(c) => area.draw(&PathElement::new(line, c.stroke_width(2))),
-            Key::Dashed => area.draw(&DashedPathElement::new(line, 5, 3, BLACK.stroke_width(2))),
-            Key::Fold => area.draw(&TriangleMarker::new((kx + 10, mid), 6, BLACK.filled())),
-            Key::Jump => area.draw(&DashedPathElement::new(
-                vec![(kx + 10, mid - 6), (kx + 10, mid + 6)],
-                3,
-                3,
-                BLACK.stroke_width(1),
-            )),
-            Key::Circle => area.draw(&Circle::new((kx + 10, mid), 5, BLACK.stroke_width(2))),
-            Key::Cross => area.draw(&Cross::new((kx + 10, mid), 5, BLACK.stroke_width(2))),
-        }
-        .map_err(plot_err)?;
-        let tx = x + (LEGEND_PAD + LEGEND_KEY_W) as i32;
-        area.draw_text(label, &font, (tx, top + 2)).map_err(plot_err)?;
-    }
-    Ok(())
 }
 
 /// The x range and the top of the y range of a panel's data and markers.
