@@ -306,16 +306,8 @@ pub fn sweep_param_with<M: Model>(
 
 /// Run to the end or to the observer's stop: the curve, and whether it was stopped.
 fn run<M: Model>(mut c: Continuation<'_, M>, observer: &mut dyn Observer) -> Result<(Curve, bool)> {
-    loop {
-        let e = c.step();
-        if e == Event::Finished {
-            observer.observe(&e, c.trace());
-            return Ok((c.finish(), false));
-        }
-        if observer.observe(&e, c.trace()) == Control::Stop {
-            return Ok((c.finish(), true));
-        }
-    }
+    let stopped = c.drive(observer);
+    Ok((c.finish(), stopped))
 }
 
 /// The checks of a frequency sweep.

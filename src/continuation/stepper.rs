@@ -230,13 +230,23 @@ impl<'m, M: Model> Continuation<'m, M> {
 
     /// Step until finished or until `observer` says stop; the curve.
     pub fn run(mut self, observer: &mut dyn Observer) -> Curve {
+        self.drive(observer);
+        self.finish()
+    }
+
+    /// Step, showing `observer` every event, until finished (`false`) or until it
+    /// says stop (`true`).
+    pub(super) fn drive(&mut self, observer: &mut dyn Observer) -> bool {
         loop {
             let e = self.step();
-            if observer.observe(&e, &self.trace) == Control::Stop || e == Event::Finished {
-                break;
+            let control = observer.observe(&e, &self.trace);
+            if e == Event::Finished {
+                return false;
+            }
+            if control == Control::Stop {
+                return true;
             }
         }
-        self.finish()
     }
 
     /// The curve traced so far, with its jumps. A segment still being traced ends
