@@ -1,5 +1,6 @@
 //! The `oscillator!` macro: generated code against hand-written twins, closed forms and
-//! time integration, and its compile-time diagnostics.
+//! time integration (its compile-time diagnostics are tested in the macro crate,
+//! `macros/tests/`).
 //!
 //! One test binary per area (each integration-test binary links the whole crate, and
 //! linking one per file dominated a fresh `cargo test`); the tests are in `tests/dsl/`.
@@ -8,8 +9,6 @@
 mod codegen;
 #[path = "dsl/common.rs"]
 mod common;
-#[path = "dsl/compile_fail.rs"]
-mod compile_fail;
 #[path = "dsl/equivalence.rs"]
 mod equivalence;
 #[path = "dsl/handwritten.rs"]

@@ -1,4 +1,7 @@
-// The exact example of CONTRACT section 1, in a crate that depends on `ihbm` only.
+//! The exact example of the DSL reference, in a crate that depends on `ihbm` (without
+//! its application features) and nothing else the generated code could lean on: the
+//! macro's output must name everything through `ihbm`.
+
 ihbm::oscillator! {
     /// Quarter-car suspension with a metal-rubber (fractional) element.
     pub struct QuarterCar {
@@ -17,7 +20,8 @@ ihbm::oscillator! {
     }
 }
 
-fn main() {
+#[test]
+fn the_reference_example_compiles_and_describes_itself() {
     use ihbm::Model;
     let mut car = QuarterCar::default();
     assert_eq!(car.name(), "quarter-car");
