@@ -1,6 +1,6 @@
-//! The exact example of the DSL reference, in a crate that depends on `ihbm` (without
-//! its application features) and nothing else the generated code could lean on: the
-//! macro's output must name everything through `ihbm`.
+//! The exact example of the DSL reference, in a crate that depends on `ihbm` and
+//! nothing else the generated code could lean on: the macro's output must name
+//! everything through `ihbm`.
 
 ihbm::oscillator! {
     /// Quarter-car suspension with a metal-rubber (fractional) element.
