@@ -1,5 +1,5 @@
 // Outputs have literal coefficients only (their terms are static).
-ihbm::oscillator! {
+ihbm_macros::oscillator! {
     pub struct Bad {
         params { m = 1.0, k = 1.0, F = 1.0 }
         dofs { x }

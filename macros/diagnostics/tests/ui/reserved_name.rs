@@ -1,5 +1,5 @@
 // `omega` is the forcing frequency and cannot be redeclared.
-ihbm::oscillator! {
+ihbm_macros::oscillator! {
     pub struct Bad {
         params { m = 1.0, omega = 1.0, F = 1.0 }
         dofs { x }

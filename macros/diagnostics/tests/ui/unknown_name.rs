@@ -1,5 +1,5 @@
 // A name that is neither parameter, DOF nor alias.
-ihbm::oscillator! {
+ihbm_macros::oscillator! {
     pub struct Bad {
         params { m = 1.0, k = 1.0, p = 0.5, F = 1.0 }
         dofs { z1, z2 }
