@@ -27,7 +27,6 @@ pub enum Error {
     /// A model name that is not registered.
     #[error("unknown model '{name}' (known: {known})")]
     UnknownModel { name: String, known: String },
-    /// A value outside what the method accepts.
     /// A problem too large for the machine: what it would need, and the largest
     /// harmonic count that fits.
     #[error("N = {harmonics} harmonics with {dofs} DOF(s) needs about {needed} for the dense {what} (limit {limit}); the largest N that fits is {largest}")]
@@ -45,8 +44,24 @@ pub enum Error {
         /// The largest N within the limit.
         largest: usize,
     },
+    /// A value outside what the method accepts.
     #[error("invalid {what}: {value} (expected {expected})")]
     InvalidValue { what: String, value: String, expected: String },
+    /// Two-parameter continuation found no fold to start from at either end of the
+    /// parameter range.
+    #[error("no fold for Ω in [{omega_from}, {omega_to}] at {parameter} = {from} or at {parameter} = {to}: nothing to continue (widen the frequency or the parameter range)")]
+    NoFolds {
+        /// The parameter's name.
+        parameter: String,
+        /// The ends of its range.
+        from: f64,
+        /// See `from`.
+        to: f64,
+        /// The frequency range swept at both ends.
+        omega_from: f64,
+        /// See `omega_from`.
+        omega_to: f64,
+    },
     /// Newton did not converge; the last iterate is kept.
     #[error("Newton did not converge at omega = {omega} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept")]
     NotConverged {

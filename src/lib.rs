@@ -21,6 +21,7 @@ extern crate self as ihbm;
 
 // The mathematics: builds with `default-features = false`.
 pub mod balance;
+pub mod bifurcation;
 pub mod continuation;
 pub mod corrector;
 pub mod error;

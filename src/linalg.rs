@@ -105,6 +105,30 @@ impl DenseLu {
         }
         rhs[..n].copy_from_slice(x);
     }
+
+    /// Solve `Aᵀ x = b` in place with the same factors (`P A = L U`, so
+    /// `Aᵀ = Uᵀ Lᵀ P`): the left null vectors a fold's test function needs.
+    pub fn solve_transpose(&mut self, rhs: &mut [f64]) {
+        let n = self.n;
+        let x = &mut self.tmp;
+        x.copy_from_slice(&rhs[..n]);
+        // Uᵀ z = b (lower triangular; column k of U is row k of Uᵀ)
+        for k in 0..n {
+            let col = self.lu.col_as_slice(k);
+            let s: f64 = col[..k].iter().zip(&x[..k]).map(|(u, z)| u * z).sum();
+            x[k] = (x[k] - s) / col[k];
+        }
+        // Lᵀ y = z (unit upper triangular)
+        for k in (0..n).rev() {
+            let col = &self.lu.col_as_slice(k)[k + 1..n];
+            let s: f64 = col.iter().zip(&x[k + 1..n]).map(|(l, y)| l * y).sum();
+            x[k] -= s;
+        }
+        // x = Pᵀ y
+        for (i, &p) in self.perm.iter().enumerate() {
+            rhs[p] = x[i];
+        }
+    }
 }
 
 /// LU factorisation with partial pivoting of the row-major complex `n × n` matrix `a`
@@ -290,6 +314,13 @@ mod tests {
         );
         for (p, q) in x.iter().zip(&y) {
             assert!((p - q).abs() < 1e-13 * (1.0 + q.abs()));
+        }
+        // the transposed solve with the same factors: residual of Aᵀ x = b
+        let mut xt = b.clone();
+        lu.solve_transpose(&mut xt);
+        for i in 0..n {
+            let r: f64 = (0..n).map(|j| a(j, i) * xt[j]).sum::<f64>() - b[i];
+            assert!(r.abs() < 1e-12, "column {i}: {r}");
         }
     }
 

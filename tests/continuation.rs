@@ -8,6 +8,8 @@
 mod convergence;
 #[path = "continuation/duffing.rs"]
 mod duffing;
+#[path = "continuation/fold_curves.rs"]
+mod fold_curves;
 #[path = "continuation/quarter_car.rs"]
 mod quarter_car;
 #[path = "continuation/snapshots.rs"]

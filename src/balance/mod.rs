@@ -22,11 +22,13 @@ use num_dual::Dual64;
 use std::f64::consts::FRAC_PI_2;
 
 mod linear;
+mod second;
 mod size;
 mod structure;
 
 pub use linear::linearized_guess;
 pub(crate) use linear::linearized_on;
+pub use second::BilinearWork;
 pub use size::{check_size, MEMORY_LIMIT};
 
 /// Residual and derivatives of the harmonic balance equations of one model.

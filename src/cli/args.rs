@@ -80,6 +80,32 @@ pub enum Command {
         #[command(flatten)]
         curve: CurveArgs,
     },
+    /// Trace every fold of the amplitude–frequency curve as a curve in the plane of Ω
+    /// and a parameter, and locate the cusps where two folds meet (where jumps begin).
+    #[command(after_help = FOLDS_AFTER_HELP)]
+    Folds {
+        /// Model name (see `ihbm models`).
+        name: String,
+        /// The second parameter (see `ihbm models NAME`).
+        #[arg(long, value_name = "P")]
+        param: String,
+        /// One end of the parameter range (the Ω-curves at both ends give the folds).
+        #[arg(long, value_name = "V0", allow_negative_numbers = true)]
+        from: f64,
+        /// The other end of the parameter range.
+        #[arg(long, value_name = "V1", allow_negative_numbers = true)]
+        to: f64,
+        /// Lowest forcing frequency of the sweeps and the fold curves, rad/s.
+        #[arg(long, value_name = "W0", default_value_t = 1.0, allow_negative_numbers = true)]
+        omega_from: f64,
+        /// Highest forcing frequency, rad/s.
+        #[arg(long, value_name = "W1", default_value_t = 100.0, allow_negative_numbers = true)]
+        omega_to: f64,
+        /// Harmonics, overrides, output files and continuation settings (`--plot`
+        /// draws the fold curves in the (Ω, P) plane).
+        #[command(flatten)]
+        curve: CurveArgs,
+    },
     /// Integrate in time from rest (Caputo derivative from t = 0); steady statistics of
     /// the last 10 forcing periods.
     Simulate {
@@ -213,6 +239,16 @@ Examples:
 
 JSON: {model, harmonics, points, folds, jumps, segments, parameter, stats,
 bifurcations, convergence (only with --converge)}. Frequencies in rad/s.";
+
+const FOLDS_AFTER_HELP: &str = "\
+Examples:
+  ihbm folds duffing --param F --from 0.01 --to 1 --omega-from 0.5 --omega-to 3 --plot f.svg
+  ihbm folds quarter-car --param k3 --from 1e5 --to 1e7 --omega-from 5 --omega-to 100 --json -
+
+JSON: {model, harmonics, parameter, curves: [{points: [{omega, value, outputs}], ended,
+start}], cusps: [{omega, value, outputs, curve, located}], range, omega_range,
+start_folds, stats}. A cusp's value is the least (or greatest) value of P at which a
+slow sweep jumps. The CSV has one row per point: curve,omega,P,<out>_max_abs,...";
 
 const SWEEP_PARAM_AFTER_HELP: &str = "\
 Examples:

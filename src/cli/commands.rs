@@ -2,9 +2,11 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
+use crate::bifurcation::{FoldCurves, FoldEvent};
+use crate::continuation::Control;
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
-use crate::engine::{ParamRange, SimSettings, SolveSettings};
+use crate::engine::{FoldRange, ParamRange, SimSettings, SolveSettings};
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
 use crate::results::Curve;
@@ -92,6 +94,22 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             );
             write_curve(&curve, &name, &title, &args, out)
         }
+        Command::Folds { name, param, from, to, omega_from, omega_to, curve: args } => {
+            distinct_outputs(&args)?;
+            let model = configured(reg, &name, &args.set)?;
+            let pb = progress::spinner(&format!(
+                "fold curves of {name} for {param} from {from} to {to}"
+            ));
+            let settings = args.cont.settings(args.harmonics);
+            let range = FoldRange { param: &param, from, to, omega: (omega_from, omega_to) };
+            let mut watch = |e: &FoldEvent, f: &FoldCurves| {
+                pb.set_message(progress::fold_message(&name, e, f));
+                Control::Continue
+            };
+            let res = model.fold_curves(&range, &settings, &mut watch).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            write_folds(&res?, &args, out)
+        }
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
             let model = configured(reg, &name, &set)?;
             let settings = SimSettings { dt, periods, scheme };
@@ -147,6 +165,68 @@ fn distinct_outputs(files: &CurveArgs) -> Result<(), Failure> {
                 "{a} and {b} name the same file {}: give each output its own path",
                 pa.display()
             )));
+        }
+    }
+    Ok(())
+}
+
+/// Write fold curves: CSV, SVG, and the JSON or a human summary.
+fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result<(), Failure> {
+    if let Some(path) = &files.csv {
+        report::write_file(path, &report::folds_csv(f)).map_err(Failure::failed)?;
+    }
+    if let Some(path) = &files.plot {
+        let title = format!(
+            "{}: fold curves in the (Ω, {}) plane, N = {}",
+            f.model, f.parameter, f.harmonics
+        );
+        let svg = report::folds_svg(f, &title).map_err(Failure::failed)?;
+        report::write_file(path, &svg).map_err(Failure::failed)?;
+    }
+    if let Some(target) = files.json.as_deref() {
+        emit_json(&report::folds_json(f), target, out)?;
+    } else {
+        w(out, format_args!(
+            "{}: {} fold curve(s) for {} in [{}, {}], Ω in [{}, {}] rad/s, N = {} ({} and {} folds at the two ends)\n",
+            f.model, f.curves.len(), f.parameter, f.range.0, f.range.1, f.omega.0, f.omega.1,
+            f.harmonics, f.start_folds.0, f.start_folds.1
+        ))?;
+        for (i, c) in f.curves.iter().enumerate() {
+            let (first, last) = (c.points.first(), c.points.last());
+            let span = |p: Option<&crate::bifurcation::FoldPoint>| {
+                p.map_or("-".to_string(), |p| {
+                    format!("(Ω {:.6}, {} {:.6e})", p.omega, f.parameter, p.value)
+                })
+            };
+            w(
+                out,
+                format_args!(
+                    "curve {i}: {} points from {} to {}, {}\n",
+                    c.points.len(),
+                    span(first),
+                    span(last),
+                    c.ended
+                ),
+            )?;
+        }
+        for c in &f.cusps {
+            w(
+                out,
+                format_args!(
+                    "cusp on curve {}: {} = {:.9e} at Ω = {:.9} rad/s{}\n",
+                    c.curve,
+                    f.parameter,
+                    c.value,
+                    c.omega,
+                    if c.located { "" } else { " (not located to 1e-8)" }
+                ),
+            )?;
+        }
+    }
+    // As for sweeps: a curve that stalled is reported, and what it traced is kept.
+    for (i, c) in f.curves.iter().enumerate() {
+        if matches!(c.ended, crate::bifurcation::CurveEnd::Stalled(_)) && files.json.is_none() {
+            w(out, format_args!("warning: curve {i} {} (its points so far are kept)\n", c.ended))?;
         }
     }
     Ok(())

@@ -48,7 +48,7 @@ mod events;
 mod jumps;
 mod locate;
 mod stepper;
-mod tracer;
+pub(crate) mod tracer;
 
 use crate::error::{Error, Result};
 use crate::model::{Model, Order};

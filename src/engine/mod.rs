@@ -5,6 +5,7 @@
 //! and the command line. Nothing here imports either.
 
 use crate::balance::Balance;
+use crate::bifurcation::{self, FoldCurveOptions, FoldCurves, FoldEvent};
 use crate::continuation::{self, Observer};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
@@ -174,6 +175,39 @@ pub fn sweep_param<M: Model>(
     let mut curve = continuation::sweep_param_with(model, param, from, to, omega, &opts, observer)?;
     curve.model = name.to_string();
     Ok(curve)
+}
+
+/// A two-parameter fold analysis: which parameter, over which range, and the
+/// frequency range whose folds are continued.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FoldRange<'a> {
+    /// Parameter name (as declared by the model).
+    pub param: &'a str,
+    /// Start value.
+    pub from: f64,
+    /// End value.
+    pub to: f64,
+    /// The frequency range, rad/s.
+    pub omega: (f64, f64),
+}
+
+/// The fold curves of `model` in the (Ω, parameter) plane and their cusps, watched
+/// by `observer`.
+pub fn fold_curves<M: Model + Clone>(
+    name: &str,
+    model: &M,
+    r: &FoldRange,
+    s: &SweepSettings,
+    observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> continuation::Control,
+) -> Result<FoldCurves> {
+    let FoldRange { param, from, to, omega } = *r;
+    check_omega("--omega-from", omega.0)?;
+    check_omega("--omega-to", omega.1)?;
+    let index = model.param_index(param)?;
+    let opts = FoldCurveOptions { sweep: s.options().map_err(|e| e.cli())?, omega };
+    let mut res = bifurcation::fold_curves_with(model, index, from, to, &opts, observer)?;
+    res.model = name.to_string();
+    Ok(res)
 }
 
 /// Integrate from rest and report the steady statistics of every output.

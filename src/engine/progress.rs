@@ -2,6 +2,7 @@
 //! computation, a bar over a study's jobs, and [`CurveProgress`], the continuation
 //! observer that shows a sweep's points as they are accepted.
 
+use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::{Control, Event, Observer, Trace};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
@@ -66,5 +67,28 @@ impl Observer for CurveProgress {
             }
         }
         Control::Continue
+    }
+}
+
+/// The progress line of a fold-curve analysis after `e`.
+pub fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
+    match *e {
+        FoldEvent::Swept(end, n) => format!("{label}: {n} fold(s) at the {end:?} end"),
+        FoldEvent::Point { curve, index } => {
+            let p = &f.curves[curve].points[index];
+            format!(
+                "{label}: curve {} of {} folds, {} points, {} = {:.6e}, Ω = {:.6}",
+                curve + 1,
+                f.start_folds.0 + f.start_folds.1,
+                f.curves[curve].points.len(),
+                f.parameter,
+                p.value,
+                p.omega
+            )
+        }
+        FoldEvent::Cusp(i) => {
+            format!("{label}: cusp at {} = {:.6e}", f.parameter, f.cusps[i].value)
+        }
+        FoldEvent::CurveStart(i) | FoldEvent::CurveEnd(i) => format!("{label}: curve {}", i + 1),
     }
 }

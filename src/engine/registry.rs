@@ -4,8 +4,9 @@
 //! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
 //! monomorphises solve, sweep and simulate for `M`.
 
-use super::{self as engine, ParamRange, SimSettings, SolveSettings, SweepSettings};
-use crate::continuation::Observer;
+use super::{self as engine, FoldRange, ParamRange, SimSettings, SolveSettings, SweepSettings};
+use crate::bifurcation::{FoldCurves, FoldEvent};
+use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo, Text};
 use crate::results::{Curve, SimRecord, SolveRecord};
@@ -41,6 +42,13 @@ pub trait AnyModel: Send + Sync {
         s: &SweepSettings,
         obs: &mut dyn Observer,
     ) -> Result<Curve>;
+    /// The fold curves in the plane of Ω and one parameter, and their cusps.
+    fn fold_curves(
+        &self,
+        r: &FoldRange,
+        s: &SweepSettings,
+        obs: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
+    ) -> Result<FoldCurves>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
     /// Harmonic balance against time integration at one frequency.
@@ -121,6 +129,14 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         obs: &mut dyn Observer,
     ) -> Result<Curve> {
         engine::sweep_param(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
+    }
+    fn fold_curves(
+        &self,
+        r: &FoldRange,
+        s: &SweepSettings,
+        obs: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
+    ) -> Result<FoldCurves> {
+        engine::fold_curves(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)

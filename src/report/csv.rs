@@ -1,6 +1,7 @@
 //! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...` (for a
 //! parameter sweep the first column is the parameter, named as in the model).
 
+use crate::bifurcation::FoldCurves;
 use crate::results::Curve;
 use std::fmt::Write;
 
@@ -36,6 +37,26 @@ pub fn curve_csv(curve: &Curve) -> String {
             let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
         }
         s.push('\n');
+    }
+    s
+}
+
+/// The CSV of fold curves: `curve,omega,<parameter>,<out>_max_abs,...`, one row per
+/// point, curve after curve (each in arc-length order); the cusps are in the JSON.
+pub fn folds_csv(f: &FoldCurves) -> String {
+    let mut s = format!("curve,omega,{}", f.parameter);
+    for name in &f.output_names {
+        let _ = write!(s, ",{name}_max_abs");
+    }
+    s.push('\n');
+    for (i, c) in f.curves.iter().enumerate() {
+        for p in &c.points {
+            let _ = write!(s, "{i},{},{}", p.omega, p.value);
+            for o in &p.outputs {
+                let _ = write!(s, ",{}", o.max_abs);
+            }
+            s.push('\n');
+        }
     }
     s
 }

@@ -1,5 +1,6 @@
 //! The JSON documents of CONTRACT section 2, field for field and in that order.
 
+use crate::bifurcation::{FoldCurves, FoldPoint};
 use crate::results::{Curve, PointOutput, SimRecord, SolveRecord};
 use serde_json::{json, Map, Value};
 
@@ -111,5 +112,46 @@ pub fn simulate_json(r: &SimRecord) -> Value {
     json!({
         "model": r.model, "omega": r.omega, "dt": r.dt, "periods": r.periods,
         "scheme": r.scheme, "outputs": Value::Object(outs),
+    })
+}
+
+/// The JSON of `folds` (CONTRACT section 3): `{model, harmonics, parameter, curves:
+/// [{points: [{omega, value, outputs: {name: {max_abs}}}], ended}], cusps: [{omega,
+/// value, outputs}]}`, then the extensions `range`, `omega_range`, `start_folds`
+/// (folds found by the sweeps at the two ends of the range) and `stats`; each curve
+/// adds `start` (`"from"` or `"to"`: the end its first fold was found at), each cusp
+/// `curve` (its index) and `located`.
+pub fn folds_json(f: &FoldCurves) -> Value {
+    let outputs = |outs: &[PointOutput]| {
+        let mut m = Map::new();
+        for (name, o) in f.output_names.iter().zip(outs) {
+            m.insert(name.clone(), json!({ "max_abs": o.max_abs }));
+        }
+        Value::Object(m)
+    };
+    let point = |p: &FoldPoint| json!({ "omega": p.omega, "value": p.value, "outputs": outputs(&p.outputs) });
+    let curves: Vec<Value> = f
+        .curves
+        .iter()
+        .map(|c| {
+            json!({ "points": c.points.iter().map(point).collect::<Vec<_>>(),
+                    "ended": c.ended.to_string(),
+                    "start": match c.start { crate::bifurcation::RangeEnd::From => "from", crate::bifurcation::RangeEnd::To => "to" } })
+        })
+        .collect();
+    let cusps: Vec<Value> = f
+        .cusps
+        .iter()
+        .map(|c| {
+            json!({ "omega": c.omega, "value": c.value, "outputs": outputs(&c.outputs),
+                    "curve": c.curve, "located": c.located })
+        })
+        .collect();
+    json!({
+        "model": f.model, "harmonics": f.harmonics, "parameter": f.parameter,
+        "curves": curves, "cusps": cusps,
+        "range": [f.range.0, f.range.1], "omega_range": [f.omega.0, f.omega.1],
+        "start_folds": [f.start_folds.0, f.start_folds.1],
+        "stats": { "iterations": f.iterations, "steps": f.steps.0, "rejected_steps": f.steps.1 },
     })
 }

@@ -15,9 +15,9 @@ use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-pub use csv::curve_csv;
-pub use json::{simulate_json, solve_json, sweep_json};
-pub use plot::{figure_svg, Figure, Panel, Series, TimeMarker};
+pub use csv::{curve_csv, folds_csv};
+pub use json::{folds_json, simulate_json, solve_json, sweep_json};
+pub use plot::{figure_svg, folds_svg, Figure, Panel, Series, TimeMarker};
 pub use summary::{convergence_line, curve_facts, CurveFacts};
 
 /// The unit of the frequency axis of figures (data files are always in rad/s).

@@ -54,6 +54,7 @@ fn help_on_every_command() {
         vec!["solve", "--help"],
         vec!["sweep", "--help"],
         vec!["sweep-param", "--help"],
+        vec!["folds", "--help"],
         vec!["simulate", "--help"],
         vec!["run", "--help"],
     ] {
@@ -402,4 +403,79 @@ fn simulate_flags_a_run_that_is_not_steady() {
     assert_eq!(damped["steady"], true, "{damped}");
     let o = ihbm(&["simulate", "duffing", "--omega", "1.05", "--set", "k3=0", "--set", "c=0"]);
     assert!(stdout(&o).contains("warning: x is not steady"), "{}", stdout(&o));
+}
+
+/// `folds` (CONTRACT section 3): the JSON's keys, the one-harmonic Duffing's cusp from
+/// its amplitude equation (the triple root: `k - mΩ² = -√3 cΩ`,
+/// `F² = 8 (cΩ)³ / (3√3 · 3k3/4)`), the CSV and the figure; bad input refused.
+#[test]
+fn folds_writes_contract_json_csv_and_plot() {
+    let (csv, svg) = (tmp("folds.csv"), tmp("folds.svg"));
+    let o = ihbm(&[
+        "folds",
+        "duffing",
+        "--param",
+        "F",
+        "--from",
+        "0.01",
+        "--to",
+        "0.3",
+        "--omega-from",
+        "0.5",
+        "--omega-to",
+        "3",
+        "--harmonics",
+        "1",
+        "--json",
+        "-",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(keys(&v)[..5], ["model", "harmonics", "parameter", "curves", "cusps"]);
+    assert_eq!(v["model"], "duffing");
+    assert_eq!(v["parameter"], "F");
+    let curve = &v["curves"][0];
+    assert_eq!(keys(curve)[..2], ["points", "ended"]);
+    assert_eq!(curve["ended"], "reached end");
+    let p = &curve["points"][0];
+    assert_eq!(keys(p), ["omega", "value", "outputs"]);
+    assert_eq!(keys(&p["outputs"]["x"]), ["max_abs"]);
+    let cusps = v["cusps"].as_array().unwrap();
+    assert_eq!(cusps.len(), 1);
+    let (c, m, k, k3) = (0.1, 1.0, 1.0, 1.0);
+    let s3 = 3f64.sqrt();
+    let omega_c = (s3 * c + (3.0f64 * c * c + 4.0 * m * k).sqrt()) / (2.0 * m);
+    let f_c = (8.0 * (c * omega_c).powi(3) / (3.0 * s3 * 0.75 * k3)).sqrt();
+    let rel = |a: &Value, b: f64| (a.as_f64().unwrap() - b).abs() / b;
+    assert!(rel(&cusps[0]["value"], f_c) < 1e-8, "{} vs {f_c}", cusps[0]["value"]);
+    assert!(rel(&cusps[0]["omega"], omega_c) < 1e-8, "{} vs {omega_c}", cusps[0]["omega"]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("curve,omega,F,x_max_abs\n"), "{text}");
+    assert_eq!(text.lines().count(), 1 + curve["points"].as_array().unwrap().len());
+    let figure = std::fs::read_to_string(&svg).unwrap();
+    assert!(figure.contains("<svg") && figure.contains("<polygon"), "no shaded region");
+    assert_rejected(
+        &[
+            "folds",
+            "duffing",
+            "--param",
+            "F",
+            "--from",
+            "0.001",
+            "--to",
+            "0.01",
+            "--harmonics",
+            "1",
+        ],
+        &["no fold", "F = 0.001", "F = 0.01"],
+    );
+    assert_rejected(&["folds", "duffing", "--param", "q", "--from", "0.1", "--to", "1"], &["q"]);
+    assert_rejected(
+        &["folds", "duffing", "--param", "F", "--from", "0.1", "--to", "0.1"],
+        &["range of F"],
+    );
 }

@@ -10,8 +10,11 @@
 //! figure, never in the CSV/JSON. The legend goes where it covers no curve
 //! ([`super::legend`]).
 
+mod folds;
 mod key;
 mod svg;
+
+pub use folds::folds_svg;
 
 use super::legend::{self, Placement, Rect};
 use super::smooth::Spline;

@@ -1,0 +1,306 @@
+//! One fold curve, traced step by step: pseudo-arclength continuation of the
+//! extended system ([`super::fold_system`]) from a fold of an amplitude–frequency
+//! curve, with the cusps (turning points of the parameter) located on the way.
+
+use super::fold_system::FoldSystem;
+use super::{CurveEnd, Cusp, FoldPoint};
+use crate::continuation::tracer::{dot, LOCATE_ITER};
+use crate::continuation::{AmplitudeBound, SweepOptions};
+use crate::model::Model;
+use crate::outputs::OutputEval;
+
+/// What one [`FoldCurveTracer::step`] produced.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Step {
+    /// A point was accepted (with the cusp located inside the step that reached it, if any).
+    Point(Option<Cusp>),
+    /// The curve ended.
+    Ended(CurveEnd),
+}
+
+struct Node {
+    y: Vec<f64>,
+    t: Vec<f64>,
+}
+
+pub(crate) struct FoldCurveTracer<'m, M: Model> {
+    pub sys: FoldSystem<'m, M>,
+    out: OutputEval,
+    opts: SweepOptions,
+    nodes: Vec<Node>,
+    pub points: Vec<FoldPoint>,
+    h: f64,
+    pub steps: usize,
+    pub rejected: usize,
+    ended: Option<CurveEnd>,
+}
+
+impl<'m, M: Model> FoldCurveTracer<'m, M> {
+    /// Start at the fold `(a, Ω, P)` (located at fixed `P` by a sweep), heading
+    /// towards increasing `P` if `up`. The fold is first corrected onto the extended
+    /// system at that `P`.
+    pub fn new(
+        mut sys: FoldSystem<'m, M>,
+        model: &M,
+        opts: &SweepOptions,
+        start: (&[f64], f64, f64),
+        up: bool,
+    ) -> Result<Self, String> {
+        let (a, omega, p) = start;
+        let n = sys.n;
+        sys.init_borders(a, omega, p)?;
+        let mut y = sys.scaled(a, omega, p);
+        let mut e_p = vec![0.0; n + 2];
+        e_p[n + 1] = 1.0;
+        let target = y[n + 1];
+        sys.correct(&mut y, &e_p, target, opts.max_iter.max(LOCATE_ITER))
+            .map_err(|why| format!("the start fold at Ω = {omega:.6} did not converge: {why}"))?;
+        sys.renew_borders();
+        let mut t = sys.tangent();
+        if up != (t[n + 1] > 0.0) {
+            t.iter_mut().for_each(|v| *v = -*v);
+        }
+        let mut tracer = FoldCurveTracer {
+            sys,
+            out: OutputEval::new(model, opts.harmonics),
+            opts: opts.clone(),
+            nodes: Vec::new(),
+            points: Vec::new(),
+            h: opts.initial_step,
+            steps: 0,
+            rejected: 0,
+            ended: None,
+        };
+        tracer.accept(y, t);
+        Ok(tracer)
+    }
+
+    fn point_at(&mut self, y: &[f64]) -> FoldPoint {
+        let coeffs = self.sys.coeffs(y);
+        let mut outputs = Vec::new();
+        self.out.points(&coeffs, &mut outputs);
+        FoldPoint { omega: self.sys.omega(y), value: self.sys.value(y), coeffs, outputs }
+    }
+
+    fn accept(&mut self, y: Vec<f64>, t: Vec<f64>) {
+        let p = self.point_at(&y);
+        self.points.push(p);
+        self.nodes.push(Node { y, t });
+    }
+
+    /// The bounds of the scaled Ω and parameter unknowns.
+    fn bounds(&self) -> [(f64, f64); 2] {
+        let s = &self.sys;
+        let (w0, w1) = s.omega_range;
+        let (p0, p1) = s.param_range;
+        let (u0, u1) = (s.scale.forward(p0) / s.sp, s.scale.forward(p1) / s.sp);
+        [(w0 / s.so, w1 / s.so), (u0.min(u1), u0.max(u1))]
+    }
+
+    /// The first bound `y` is beyond, as (component, bound value).
+    fn beyond(&self, y: &[f64]) -> Option<(usize, f64)> {
+        let n = self.sys.n;
+        for (k, (lo, hi)) in self.bounds().into_iter().enumerate() {
+            let v = y[n + k];
+            if v > hi {
+                return Some((n + k, hi));
+            }
+            if v < lo {
+                return Some((n + k, lo));
+            }
+        }
+        None
+    }
+
+    /// One step: a point accepted, or the end of the curve.
+    pub fn step(&mut self) -> Step {
+        if let Some(e) = &self.ended {
+            return Step::Ended(e.clone());
+        }
+        let r = self.attempt();
+        if let Step::Ended(e) = &r {
+            self.ended = Some(e.clone());
+        }
+        r
+    }
+
+    fn attempt(&mut self) -> Step {
+        let n = self.sys.n;
+        let last = self.nodes.len() - 1;
+        let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
+        loop {
+            if self.steps >= self.opts.max_steps {
+                return Step::Ended(CurveEnd::Stalled(format!(
+                    "step limit {} reached",
+                    self.opts.max_steps
+                )));
+            }
+            let h = self.h;
+            let mut y: Vec<f64> = y0.iter().zip(&t0).map(|(a, t)| a + h * t).collect();
+            if let Some((k, b)) = self.beyond(&y) {
+                self.steps += 1;
+                return self.land(k, b, &y);
+            }
+            let target = dot(&t0, &y0) + h;
+            let it = match self.sys.correct(&mut y, &t0, target, self.opts.max_iter) {
+                Ok(it) => it,
+                Err(why) => {
+                    self.rejected += 1;
+                    self.h *= 0.5;
+                    if self.h < self.opts.min_step {
+                        return Step::Ended(CurveEnd::Stalled(why));
+                    }
+                    continue;
+                }
+            };
+            let t = self.sys.tangent();
+            let angle = dot(&t0, &t).clamp(-1.0, 1.0).acos();
+            if angle > 2.0 * self.opts.max_turn && h > 2.0 * self.opts.min_step {
+                self.rejected += 1;
+                self.h *= 0.5;
+                continue;
+            }
+            self.steps += 1;
+            if let Some((k, b)) = self.beyond(&y) {
+                return self.land(k, b, &y);
+            }
+            let cusp =
+                if t0[n + 1] * t[n + 1] < 0.0 { Some(self.locate_cusp(h, t[n + 1])) } else { None };
+            self.sys.renew_borders();
+            self.accept(y, t);
+            let mut factor: f64 = match it {
+                0..=2 => 1.6,
+                3 => 1.25,
+                4 => 1.0,
+                _ => 0.6,
+            };
+            if angle > 0.0 {
+                factor = factor.min(self.opts.max_turn / angle);
+            }
+            let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            self.h =
+                (h * factor.clamp(0.25, 2.0)).clamp(self.opts.min_step, self.opts.max_step * amp);
+            if self.closed() {
+                return Step::Ended(CurveEnd::Closed);
+            }
+            if self.beyond_bound() {
+                return Step::Ended(CurveEnd::AmplitudeBound);
+            }
+            return Step::Point(cusp);
+        }
+    }
+
+    /// The last point's response beyond the amplitude bound: relative to the first
+    /// fold's largest coefficient (the unit of the scaled coefficients), or any
+    /// output's `max_abs` above an absolute bound.
+    fn beyond_bound(&self) -> bool {
+        let (Some(nd), Some(p)) = (self.nodes.last(), self.points.last()) else { return false };
+        match self.opts.amplitude_bound {
+            AmplitudeBound::Relative(f) => nd.y[..self.sys.n].iter().any(|v| v.abs() > f),
+            AmplitudeBound::Absolute(b) => p.outputs.iter().any(|o| o.max_abs > b),
+            AmplitudeBound::None => false,
+        }
+    }
+
+    /// Back near the first point after going round: an isola (a closed fold curve).
+    fn closed(&self) -> bool {
+        let k = self.nodes.len();
+        if k < 8 {
+            return false;
+        }
+        let (first, last) = (&self.nodes[0], &self.nodes[k - 1]);
+        let d = first.y.iter().zip(&last.y).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        d < 0.5 * self.h && dot(&first.t, &last.t) > 0.0
+    }
+
+    /// Land the step that left the box (at `y`) on the bound `b` of component `k`.
+    fn land(&mut self, k: usize, b: f64, y: &[f64]) -> Step {
+        let n = self.sys.n;
+        let last = self.nodes.len() - 1;
+        let yl = self.nodes[last].y.clone();
+        let f = (b - yl[k]) / (y[k] - yl[k]);
+        let mut yb: Vec<f64> = yl.iter().zip(y).map(|(a, c)| a + f * (c - a)).collect();
+        let mut e = vec![0.0; n + 2];
+        e[k] = 1.0;
+        match self.sys.correct(&mut yb, &e, b, self.opts.max_iter.max(LOCATE_ITER)) {
+            Ok(_) => {
+                let mut t = self.sys.tangent();
+                if dot(&t, &self.nodes[last].t) < 0.0 {
+                    t.iter_mut().for_each(|v| *v = -*v);
+                }
+                self.accept(yb, t);
+                Step::Ended(if k == n + 1 {
+                    CurveEnd::ReachedEnd
+                } else {
+                    CurveEnd::LeftOmegaRange
+                })
+            }
+            Err(why) => {
+                Step::Ended(CurveEnd::Stalled(format!("could not land on the range end: {why}")))
+            }
+        }
+    }
+
+    /// Locate the zero of the tangent's parameter component inside the step of
+    /// length `h` from the last node (regula falsi, Illinois), corrected onto the
+    /// fold curve at every trial.
+    fn locate_cusp(&mut self, h: f64, f_end: f64) -> Cusp {
+        let n = self.sys.n;
+        let last = self.nodes.len() - 1;
+        let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
+        let base = dot(&t0, &y0);
+        let (mut a, mut fa) = (0.0, t0[n + 1]);
+        let (mut b, mut fb) = (h, f_end);
+        let mut side = 0i8;
+        let mut best: Option<Vec<f64>> = None;
+        let mut located = false;
+        for _ in 0..60 {
+            let s = {
+                let s = if fb != fa { (a * fb - b * fa) / (fb - fa) } else { 0.5 * (a + b) };
+                if s > a && s < b {
+                    s
+                } else {
+                    0.5 * (a + b)
+                }
+            };
+            let mut y: Vec<f64> = y0.iter().zip(&t0).map(|(p, t)| p + s * t).collect();
+            if self.sys.correct(&mut y, &t0, base + s, self.opts.max_iter.max(LOCATE_ITER)).is_err()
+            {
+                break;
+            }
+            let t = self.sys.tangent();
+            let f = t[n + 1];
+            best = Some(y);
+            if f.abs() < 1e-13 || (b - a) < 1e-14 * h {
+                located = true;
+                break;
+            }
+            if f * fa > 0.0 {
+                a = s;
+                fa = f;
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            } else {
+                b = s;
+                fb = f;
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        let y = best.unwrap_or(y0);
+        let p = self.point_at(&y);
+        Cusp {
+            omega: p.omega,
+            value: p.value,
+            coeffs: p.coeffs,
+            outputs: p.outputs,
+            curve: 0,
+            after: last,
+            located,
+        }
+    }
+}

@@ -1,0 +1,395 @@
+//! Two-parameter bifurcation analysis: the folds of an amplitude–frequency curve
+//! continued as curves in the plane of Ω and a model parameter `P`, and the cusps
+//! where two folds meet — where jumps begin.
+//!
+//! [`fold_curves`] sweeps Ω at both ends of the parameter range, then traces every
+//! fold it found across the range ([`fold_system`] is the extended system,
+//! [`fold_curve`] the continuation). A fold curve that turns back in `P` does so at a
+//! cusp: beyond it that pair of folds, and the jumps between them, no longer exist.
+//! A curve that comes back to the end it started from is traced once.
+//!
+//! ```
+//! use ihbm::bifurcation::{fold_curves, FoldCurveOptions};
+//! use ihbm::models::Duffing;
+//! use ihbm::Model;
+//! // The one-harmonic Duffing oscillator with its defaults: folds above some forcing.
+//! let model = Duffing::default();
+//! let f = model.param_index("F").unwrap();
+//! let mut opts = FoldCurveOptions::default();
+//! opts.sweep.harmonics = 1;
+//! opts.omega = (0.5, 3.0);
+//! let curves = fold_curves(&model, f, 0.01, 0.3, &opts).unwrap();
+//! // Both folds of the curve at F = 0.3 meet at one cusp, at the least forcing with a jump.
+//! assert_eq!(curves.cusps.len(), 1);
+//! assert!(curves.cusps[0].value > 0.01 && curves.cusps[0].value < 0.3);
+//! ```
+
+mod fold_curve;
+mod fold_system;
+
+use crate::balance::Balance;
+use crate::continuation::{sweep, Control, SweepOptions};
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::results::PointOutput;
+use fold_curve::{FoldCurveTracer, Step};
+use fold_system::{FoldSystem, ParamScale};
+
+/// One point of a fold curve: a fold of the amplitude–frequency curve at `value`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FoldPoint {
+    /// Forcing frequency of the fold.
+    pub omega: f64,
+    /// The parameter's value.
+    pub value: f64,
+    /// Fourier coefficients at the fold.
+    pub coeffs: Vec<f64>,
+    /// Per output, in model output order.
+    pub outputs: Vec<PointOutput>,
+}
+
+/// A cusp: two folds meet, the parameter turns back along the fold curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cusp {
+    /// Forcing frequency at the cusp.
+    pub omega: f64,
+    /// The parameter's value at the cusp: past it (on the side without the curve)
+    /// this pair of folds, and the jumps between them, do not exist.
+    pub value: f64,
+    /// Fourier coefficients at the cusp.
+    pub coeffs: Vec<f64>,
+    /// Per output, in model output order.
+    pub outputs: Vec<PointOutput>,
+    /// The fold curve it lies on (`curves[curve]`).
+    pub curve: usize,
+    /// It lies between `points[after]` and `points[after + 1]` of that curve.
+    pub after: usize,
+    /// Whether the location converged (the parameter component of the tangent below
+    /// 1e-13 or the bracket below 1e-14 of the step); `false`: the last converged
+    /// estimate inside the step, not located to 1e-8.
+    pub located: bool,
+}
+
+/// Why a fold curve ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CurveEnd {
+    /// The parameter reached the end of its range.
+    ReachedEnd,
+    /// Ω reached the end of the frequency range.
+    LeftOmegaRange,
+    /// The curve came back to its first point (an isola of folds).
+    Closed,
+    /// The response at the fold exceeded the amplitude bound of the options (a fold
+    /// climbing towards a runaway branch).
+    AmplitudeBound,
+    /// The corrector failed at the smallest step, or another failure; the reason.
+    Stalled(String),
+    /// An observer stopped the run.
+    Stopped,
+}
+
+impl std::fmt::Display for CurveEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CurveEnd::ReachedEnd => write!(f, "reached end"),
+            CurveEnd::LeftOmegaRange => write!(f, "left the frequency range"),
+            CurveEnd::Closed => write!(f, "closed"),
+            CurveEnd::AmplitudeBound => write!(f, "amplitude bound"),
+            CurveEnd::Stalled(why) => write!(f, "stalled: {why}"),
+            CurveEnd::Stopped => write!(f, "stopped"),
+        }
+    }
+}
+
+/// Which end of the parameter range a fold curve started from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RangeEnd {
+    /// The first value (`from`).
+    From,
+    /// The last value (`to`).
+    To,
+}
+
+/// One fold curve, in arc-length order from the fold it started at.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FoldCurve {
+    /// The end of the parameter range whose sweep found its first fold.
+    pub start: RangeEnd,
+    /// Which fold of that sweep, in its arc-length order: folds `2k` and `2k + 1`
+    /// bound one hysteresis (between them the curve had three solutions).
+    pub start_fold: usize,
+    /// Its points.
+    pub points: Vec<FoldPoint>,
+    /// Why it ended.
+    pub ended: CurveEnd,
+}
+
+/// The fold curves of a model in the (Ω, parameter) plane and their cusps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FoldCurves {
+    /// The model's name (set by the caller that knows it, e.g. the command line).
+    pub model: String,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+    /// The parameter's index in the model.
+    pub param: usize,
+    /// The parameter's name.
+    pub parameter: String,
+    /// Output names, in model order.
+    pub output_names: Vec<String>,
+    /// The parameter range.
+    pub range: (f64, f64),
+    /// The frequency range.
+    pub omega: (f64, f64),
+    /// Folds of the sweeps at the two ends of the range (`from`, `to`).
+    pub start_folds: (usize, usize),
+    /// The fold curves.
+    pub curves: Vec<FoldCurve>,
+    /// The cusps, in the order found.
+    pub cusps: Vec<Cusp>,
+    /// Newton iterations of the fold curves (the sweeps not counted).
+    pub iterations: usize,
+    /// Accepted and rejected steps of the fold curves.
+    pub steps: (usize, usize),
+}
+
+/// What [`fold_curves_with`] reports as it goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FoldEvent {
+    /// A sweep at an end of the range found this many folds to start from.
+    Swept(RangeEnd, usize),
+    /// A fold curve began: `curves[i]`.
+    CurveStart(usize),
+    /// A point was accepted: `curves[curve].points[index]`.
+    Point {
+        /// The curve.
+        curve: usize,
+        /// The point.
+        index: usize,
+    },
+    /// A cusp was located: `cusps[i]`.
+    Cusp(usize),
+    /// `curves[i]` ended; its `ended` says why.
+    CurveEnd(usize),
+}
+
+/// Options of [`fold_curves`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FoldCurveOptions {
+    /// Harmonics, tolerances and step control, of the sweeps that find the folds to
+    /// start from and of the fold curves (the sweeps skip their stability analysis:
+    /// folds do not depend on it).
+    pub sweep: SweepOptions,
+    /// The frequency range of those sweeps, and the range the fold curves stay in.
+    pub omega: (f64, f64),
+}
+
+impl Default for FoldCurveOptions {
+    fn default() -> Self {
+        FoldCurveOptions { sweep: SweepOptions::default(), omega: (1.0, 100.0) }
+    }
+}
+
+/// The fold curves of `model` for parameter `param` from `from` to `to`; see the
+/// module documentation.
+///
+/// Errors for bad input (an unknown parameter index, an empty or non-finite range,
+/// a range outside the parameter's domain, a bad frequency range) and when neither
+/// end of the range has a fold. Numerical trouble ends a curve, with the reason in
+/// [`FoldCurve::ended`]; what was traced is kept.
+pub fn fold_curves<M: Model + Clone>(
+    model: &M,
+    param: usize,
+    from: f64,
+    to: f64,
+    opts: &FoldCurveOptions,
+) -> Result<FoldCurves> {
+    fold_curves_with(model, param, from, to, opts, &mut |_: &FoldEvent, _: &FoldCurves| {
+        Control::Continue
+    })
+}
+
+/// [`fold_curves`], reporting every event to `observer`, which may stop the run
+/// (what is traced is returned, the curve being traced ends as `Stopped`).
+pub fn fold_curves_with<M: Model + Clone>(
+    model: &M,
+    param: usize,
+    from: f64,
+    to: f64,
+    opts: &FoldCurveOptions,
+    observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
+) -> Result<FoldCurves> {
+    let info = model.params_info();
+    let Some(pinfo) = info.get(param) else {
+        return Err(Error::InvalidValue {
+            what: "parameter index".into(),
+            value: param.to_string(),
+            expected: format!("one of the model's {} parameters (0..{})", info.len(), info.len()),
+        });
+    };
+    let name = pinfo.name.to_string();
+    if !(from.is_finite() && to.is_finite()) || from == to {
+        return Err(Error::InvalidValue {
+            what: format!("range of {name}"),
+            value: format!("{from} to {to}"),
+            expected: "two different finite values".into(),
+        });
+    }
+    let (w0, w1) = opts.omega;
+    if !(w0.is_finite() && w1.is_finite() && w0 > 0.0 && w1 > w0) {
+        return Err(Error::InvalidValue {
+            what: "frequency range".into(),
+            value: format!("{w0} to {w1}"),
+            expected: "finite values with 0 < from < to".into(),
+        });
+    }
+    let (lo, hi) = (from.min(to), from.max(to));
+    for v in [from, to] {
+        let mut m = model.clone();
+        m.set_param_value(param, v);
+        m.validate()?;
+    }
+    let mut sweep_opts = opts.sweep.clone();
+    sweep_opts.stability = None;
+    sweep_opts.convergence = None;
+    let scale = if lo > 0.0 && hi / lo >= 10.0 { ParamScale::Log } else { ParamScale::Linear };
+    let mut res = FoldCurves {
+        model: model.name().to_string(),
+        harmonics: sweep_opts.harmonics,
+        param,
+        parameter: name.clone(),
+        output_names: model.outputs().iter().map(|o| o.name.to_string()).collect(),
+        range: (from, to),
+        omega: (w0, w1),
+        start_folds: (0, 0),
+        curves: Vec::new(),
+        cusps: Vec::new(),
+        iterations: 0,
+        steps: (0, 0),
+    };
+    // The sweeps at both ends, then the curves from their folds.
+    let mut starts = Vec::new();
+    for (end, v) in [(RangeEnd::From, from), (RangeEnd::To, to)] {
+        let mut m = model.clone();
+        m.set_param_value(param, v);
+        let curve = sweep(&m, w0, w1, &sweep_opts)?;
+        let folds: Vec<_> = curve.folds.into_iter().filter(|f| f.located).collect();
+        match end {
+            RangeEnd::From => res.start_folds.0 = folds.len(),
+            RangeEnd::To => res.start_folds.1 = folds.len(),
+        }
+        if observer(&FoldEvent::Swept(end, folds.len()), &res) == Control::Stop {
+            return Ok(res);
+        }
+        starts.extend(folds.into_iter().enumerate().map(|(k, f)| (end, v, k, f)));
+    }
+    if starts.is_empty() {
+        return Err(Error::NoFolds { parameter: name, from, to, omega_from: w0, omega_to: w1 });
+    }
+    let mut stopped = false;
+    for (end, v, start_fold, fold) in starts {
+        if stopped {
+            break;
+        }
+        if traced_already(&res, v, fold.omega, &fold.coeffs) {
+            continue;
+        }
+        let mut m = model.clone();
+        m.set_param_value(param, v);
+        let bal = Balance::new(model, sweep_opts.harmonics)?;
+        let mut sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
+        sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
+        sys.so = w1 - w0;
+        sys.sp = (scale.forward(hi) - scale.forward(lo)).abs();
+        sys.sr = reference_force(&m, sweep_opts.harmonics, fold.omega)?;
+        sys.omega_range = (w0, w1);
+        sys.param_range = (lo, hi);
+        let up = (end == RangeEnd::From) == (to > from);
+        let ci = res.curves.len();
+        let mut tracer = match FoldCurveTracer::new(
+            sys,
+            model,
+            &sweep_opts,
+            (&fold.coeffs, fold.omega, v),
+            up,
+        ) {
+            Ok(t) => t,
+            Err(why) => {
+                res.curves.push(FoldCurve {
+                    start: end,
+                    start_fold,
+                    points: Vec::new(),
+                    ended: CurveEnd::Stalled(why),
+                });
+                stopped = observer(&FoldEvent::CurveEnd(ci), &res) == Control::Stop;
+                continue;
+            }
+        };
+        res.curves.push(FoldCurve {
+            start: end,
+            start_fold,
+            points: tracer.points.clone(),
+            ended: CurveEnd::Stopped,
+        });
+        let mut control = observer(&FoldEvent::CurveStart(ci), &res);
+        loop {
+            if control == Control::Stop {
+                stopped = true;
+                break;
+            }
+            match tracer.step() {
+                Step::Point(cusp) => {
+                    let k = tracer.points.len() - 1;
+                    res.curves[ci].points.push(tracer.points[k].clone());
+                    if let Some(mut c) = cusp {
+                        c.curve = ci;
+                        res.cusps.push(c);
+                        control = observer(&FoldEvent::Cusp(res.cusps.len() - 1), &res);
+                        if control == Control::Stop {
+                            continue;
+                        }
+                    }
+                    control = observer(&FoldEvent::Point { curve: ci, index: k }, &res);
+                }
+                Step::Ended(e) => {
+                    // a landing adds its point
+                    let have = res.curves[ci].points.len();
+                    res.curves[ci].points.extend(tracer.points[have..].iter().cloned());
+                    res.curves[ci].ended = e;
+                    break;
+                }
+            }
+        }
+        res.iterations += tracer.sys.iterations;
+        res.steps.0 += tracer.steps;
+        res.steps.1 += tracer.rejected;
+        if observer(&FoldEvent::CurveEnd(ci), &res) == Control::Stop {
+            stopped = true;
+        }
+    }
+    Ok(res)
+}
+
+/// The residual max-norm at zero response (the forcing) at Ω: the reference force.
+fn reference_force<M: Model>(model: &M, harmonics: usize, omega: f64) -> Result<f64> {
+    let mut bal = Balance::new(model, harmonics)?;
+    let a = vec![0.0; bal.len()];
+    let mut r = vec![0.0; bal.len()];
+    bal.residual(&a, omega, &mut r);
+    let f = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    Ok(if f > 0.0 && f.is_finite() { f } else { 1.0 })
+}
+
+/// Whether a traced curve already ended at this fold (`value`, Ω, coefficients): a
+/// curve that turned at a cusp and came back to the end it started from.
+fn traced_already(res: &FoldCurves, value: f64, omega: f64, coeffs: &[f64]) -> bool {
+    let scale = coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
+    res.curves.iter().any(|c| {
+        c.ended == CurveEnd::ReachedEnd
+            && c.points.last().is_some_and(|p| {
+                (p.value - value).abs() <= 1e-9 * value.abs().max(f64::MIN_POSITIVE)
+                    && (p.omega - omega).abs() <= 1e-6 * omega
+                    && p.coeffs.iter().zip(coeffs).all(|(a, b)| (a - b).abs() <= 1e-4 * scale)
+            })
+    })
+}
