@@ -76,6 +76,8 @@ pub mod book {
     pub struct Models;
     #[doc = include_str!("../book/src/continuation.md")]
     pub struct Continuation;
+    #[doc = include_str!("../book/src/bifurcation.md")]
+    pub struct Bifurcation;
     #[doc = include_str!("../book/src/timedomain.md")]
     pub struct Timedomain;
     #[doc = include_str!("../book/src/snapshots.md")]

@@ -48,9 +48,33 @@ pub struct FoldPoint {
     pub outputs: Vec<PointOutput>,
 }
 
-/// A cusp: two folds meet, the parameter turns back along the fold curve.
+/// How two folds meet where the parameter turns back along a fold curve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TurnKind {
+    /// A cusp (hysteresis point): the two folds of one hysteresis merge and the jump
+    /// between them disappears. The curve's projection on the (Ω, P) plane has a cusp
+    /// (Ω turns together with P).
+    Cusp,
+    /// An isola point: a fold of the curve meets a fold of a detached branch where
+    /// the two join (the projection passes smoothly, Ω does not turn).
+    Isola,
+}
+
+impl std::fmt::Display for TurnKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            TurnKind::Cusp => "cusp",
+            TurnKind::Isola => "isola",
+        })
+    }
+}
+
+/// Where two folds meet: the parameter turns back along the fold curve, at a cusp or
+/// where a detached branch joins ([`TurnKind`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cusp {
+    /// Which of the two.
+    pub kind: TurnKind,
     /// Forcing frequency at the cusp.
     pub omega: f64,
     /// The parameter's value at the cusp: past it (on the side without the curve)

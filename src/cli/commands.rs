@@ -213,7 +213,8 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
             w(
                 out,
                 format_args!(
-                    "cusp on curve {}: {} = {:.9e} at Ω = {:.9} rad/s{}\n",
+                    "{} on curve {}: {} = {:.9e} at Ω = {:.9} rad/s{}\n",
+                    c.kind,
                     c.curve,
                     f.parameter,
                     c.value,

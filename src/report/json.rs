@@ -120,7 +120,8 @@ pub fn simulate_json(r: &SimRecord) -> Value {
 /// value, outputs}]}`, then the extensions `range`, `omega_range`, `start_folds`
 /// (folds found by the sweeps at the two ends of the range) and `stats`; each curve
 /// adds `start` (`"from"` or `"to"`: the end its first fold was found at), each cusp
-/// `curve` (its index) and `located`.
+/// `kind` (`"cusp"`, or `"isola"` where a detached branch joins), `curve` (its
+/// index) and `located`.
 pub fn folds_json(f: &FoldCurves) -> Value {
     let outputs = |outs: &[PointOutput]| {
         let mut m = Map::new();
@@ -144,7 +145,7 @@ pub fn folds_json(f: &FoldCurves) -> Value {
         .iter()
         .map(|c| {
             json!({ "omega": c.omega, "value": c.value, "outputs": outputs(&c.outputs),
-                    "curve": c.curve, "located": c.located })
+                    "kind": c.kind.to_string(), "curve": c.curve, "located": c.located })
         })
         .collect();
     json!({

@@ -1,9 +1,9 @@
 //! The fold curves of a two-parameter analysis in the (Ω, parameter) plane: each
-//! curve a line, each cusp a marker, and the region where the amplitude–frequency
+//! curve a line, each cusp a filled triangle (an isola point a ring), and the region where the amplitude–frequency
 //! curve has three solutions (between the two folds of one hysteresis) shaded.
 
 use super::plot_err;
-use crate::bifurcation::{CurveEnd, FoldCurve, FoldCurves};
+use crate::bifurcation::{CurveEnd, FoldCurve, FoldCurves, TurnKind};
 use crate::error::Error;
 use plotters::prelude::*;
 
@@ -60,22 +60,38 @@ pub fn folds_svg(f: &FoldCurves, title: &str) -> Result<String, Error> {
     Ok(svg)
 }
 
-/// The regions with three solutions: a curve that turned at a cusp and came back to
-/// the end it started from encloses one; two curves from the folds of one hysteresis
-/// that both reached the other end enclose one between them.
+/// The regions with three solutions near each cusp: between the two branches that
+/// leave it, as far as both go on away from the cusp's value (up to the first turn
+/// of either, or the end); and between two curves from the folds of one hysteresis
+/// that both crossed the whole range.
 fn regions(f: &FoldCurves) -> Vec<Vec<(f64, f64)>> {
-    let xy = |c: &FoldCurve| c.points.iter().map(|p| (p.omega, p.value)).collect::<Vec<_>>();
+    let mut out = Vec::new();
+    for k in f.cusps.iter().filter(|k| k.kind == TurnKind::Cusp) {
+        let pts = &f.curves[k.curve].points;
+        let tip = (k.omega, k.value);
+        let back: Vec<(f64, f64)> =
+            pts[..=k.after].iter().rev().map(|p| (p.omega, p.value)).collect();
+        let ahead: Vec<(f64, f64)> =
+            pts[k.after + 1..].iter().map(|p| (p.omega, p.value)).collect();
+        let (a, b) = (monotone(tip, &back), monotone(tip, &ahead));
+        let reach = |v: &[(f64, f64)]| v.last().map_or(tip.1, |p| p.1);
+        // both branches go the same way from the cusp; clip to the nearer reach
+        let limit = if (reach(&a) - tip.1).abs() < (reach(&b) - tip.1).abs() {
+            reach(&a)
+        } else {
+            reach(&b)
+        };
+        let mut poly = clip(tip, &a, limit);
+        poly.extend(clip(tip, &b, limit).into_iter().rev());
+        if poly.len() > 3 {
+            out.push(poly);
+        }
+    }
     let ends =
         |c: &FoldCurve| c.points.first().zip(c.points.last()).map(|(p, q)| (p.value, q.value));
-    let came_back =
-        |c: &FoldCurve| c.ended == CurveEnd::ReachedEnd && ends(c).is_some_and(|(a, b)| a == b);
     let crossed =
         |c: &FoldCurve| c.ended == CurveEnd::ReachedEnd && ends(c).is_some_and(|(a, b)| a != b);
-    let mut out = Vec::new();
     for (i, c) in f.curves.iter().enumerate() {
-        if came_back(c) && f.cusps.iter().any(|k| k.curve == i) {
-            out.push(xy(c));
-        }
         if c.start_fold % 2 != 0 || !crossed(c) {
             continue;
         }
@@ -83,10 +99,43 @@ fn regions(f: &FoldCurves) -> Vec<Vec<(f64, f64)>> {
             .iter()
             .find(|b| b.start == c.start && b.start_fold == c.start_fold + 1);
         if let Some(b) = partner.filter(|b| crossed(b)) {
-            let mut poly = xy(c);
-            poly.extend(xy(b).into_iter().rev());
+            let mut poly: Vec<(f64, f64)> = c.points.iter().map(|p| (p.omega, p.value)).collect();
+            poly.extend(b.points.iter().rev().map(|p| (p.omega, p.value)));
             out.push(poly);
         }
+    }
+    out
+}
+
+/// The start of `branch` (from `tip`) while its value moves away from the tip's.
+fn monotone(tip: (f64, f64), branch: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = vec![tip];
+    let mut dir = 0.0;
+    for &p in branch {
+        let last = out[out.len() - 1];
+        let d = (p.1 - last.1).signum();
+        if dir == 0.0 {
+            dir = d;
+        } else if d != dir && d != 0.0 {
+            break;
+        }
+        out.push(p);
+    }
+    out
+}
+
+/// `branch` up to the value `limit` (the last segment cut there).
+fn clip(tip: (f64, f64), branch: &[(f64, f64)], limit: f64) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for (i, &p) in branch.iter().enumerate() {
+        let beyond = (p.1 - tip.1).abs() > (limit - tip.1).abs();
+        if beyond && i > 0 {
+            let q = branch[i - 1];
+            let s = (limit - q.1) / (p.1 - q.1);
+            out.push((q.0 + s * (p.0 - q.0), limit));
+            break;
+        }
+        out.push(p);
     }
     out
 }
@@ -108,10 +157,13 @@ where
         chart.draw_series(LineSeries::new(xy, line.stroke_width(2))).map_err(plot_err)?;
     }
     let red = RGBColor(200, 30, 30);
+    let cusps = f.cusps.iter().filter(|k| k.kind == TurnKind::Cusp);
     chart
-        .draw_series(
-            f.cusps.iter().map(|k| TriangleMarker::new((k.omega, k.value), 7, red.filled())),
-        )
+        .draw_series(cusps.map(|k| TriangleMarker::new((k.omega, k.value), 7, red.filled())))
+        .map_err(plot_err)?;
+    let isolas = f.cusps.iter().filter(|k| k.kind == TurnKind::Isola);
+    chart
+        .draw_series(isolas.map(|k| Circle::new((k.omega, k.value), 5, red.stroke_width(2))))
         .map_err(plot_err)?;
     Ok(())
 }
