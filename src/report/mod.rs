@@ -17,7 +17,9 @@ use std::path::Path;
 
 pub use csv::{curve_csv, folds_csv};
 pub use json::{folds_json, simulate_json, solve_json, sweep_json};
-pub use plot::{figure_svg, folds_svg, Figure, Panel, Series, TimeMarker};
+pub use plot::{
+    figure_svg, folds_svg, folds_svg_family, trend_svg, Figure, Panel, Series, TimeMarker,
+};
 pub use summary::{convergence_line, curve_facts, CurveFacts};
 
 /// The unit of the frequency axis of figures (data files are always in rad/s).

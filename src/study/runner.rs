@@ -3,10 +3,12 @@
 
 use super::claims::{fmt_num, Member, TdRow};
 use super::spec::{apply, Study};
-use super::summary::{self, FigureResult};
+use super::summary::{self, FigureResult, FoldMember};
+use crate::bifurcation::{FoldCurves, FoldEvent};
+use crate::continuation::Control;
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
-use crate::engine::{SimSettings, SweepSettings};
+use crate::engine::{FoldRange, SimSettings, SweepSettings};
 use crate::error::{Error, Result};
 use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
 use crate::results::Curve;
@@ -44,6 +46,8 @@ struct TdPlan {
 
 struct FigurePlan {
     id: String,
+    /// A fold figure: the parameter and its range (each "curve" is then one analysis).
+    folds: Option<(String, f64, f64)>,
     title: String,
     unit: FreqUnit,
     outputs: Vec<String>,
@@ -58,18 +62,21 @@ struct FigurePlan {
 #[derive(Clone, Copy)]
 enum Job {
     Curve(usize, usize),
+    Folds(usize, usize),
     Compare(usize, usize),
 }
 
 enum Done {
     // Boxed: a curve's header outweighs the other results several times.
     Curve(Result<Box<Curve>>),
+    Folds(Result<Box<FoldCurves>>),
     Compare(CompareRow),
 }
 
 /// What the jobs of one figure produced.
 struct Finished {
     curves: Vec<Option<Curve>>,
+    folds: Vec<Option<FoldCurves>>,
     rows: Vec<Option<CompareRow>>,
     seconds: f64,
 }
@@ -135,6 +142,7 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
         }
         plans.push(FigurePlan {
             title: fig.title.clone().unwrap_or_else(|| id.clone()),
+            folds: fig.folds.as_ref().map(|f| (f.param.get_ref().clone(), f.from, f.to)),
             id,
             unit: fig.unit.unwrap_or(study.unit),
             outputs: fig
@@ -167,6 +175,9 @@ pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
         }
         if !p.td.is_empty() {
             files.push((format!("{}_timedomain.csv", p.id), format!("figure '{}'", p.id)));
+        }
+        if p.folds.is_some() && p.curves.len() > 1 {
+            files.push((format!("{}_cusps.svg", p.id), format!("figure '{}'", p.id)));
         }
         files.push((format!("{}.svg", p.id), format!("figure '{}'", p.id)));
     }
@@ -207,7 +218,11 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
 fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
     let mut jobs = Vec::new();
     for (f, p) in plans.iter().enumerate() {
-        jobs.extend((0..p.curves.len()).map(|k| Job::Curve(f, k)));
+        if p.folds.is_some() {
+            jobs.extend((0..p.curves.len()).map(|k| Job::Folds(f, k)));
+        } else {
+            jobs.extend((0..p.curves.len()).map(|k| Job::Curve(f, k)));
+        }
         jobs.extend((0..p.td.len()).map(|k| Job::Compare(f, k)));
     }
     let pb = progress::bar(jobs.len() as u64, "curves and time-domain points");
@@ -221,6 +236,17 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
                     let mut watch = progress::CurveProgress::new(pb.clone(), c.model.name());
                     let (lo, hi) = p.range;
                     Done::Curve(c.model.sweep(lo, hi, &c.sweep, &mut watch).map(Box::new))
+                }
+                Job::Folds(f, k) => {
+                    let (p, c) = (&plans[f], &plans[f].curves[k]);
+                    let (param, from, to) = p.folds.clone().unwrap_or_default();
+                    let range = FoldRange { param: &param, from, to, omega: p.range };
+                    let label = format!("{}: fold curves, {}", p.id, c.label);
+                    let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
+                        pb.set_message(progress::fold_message(&label, e, fc));
+                        Control::Continue
+                    };
+                    Done::Folds(c.model.fold_curves(&range, &c.sweep, &mut watch).map(Box::new))
                 }
                 Job::Compare(f, k) => {
                     let (p, td) = (&plans[f], &plans[f].td[k]);
@@ -236,6 +262,7 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
         .iter()
         .map(|p| Finished {
             curves: p.curves.iter().map(|_| None).collect(),
+            folds: p.curves.iter().map(|_| None).collect(),
             rows: p.td.iter().map(|_| None).collect(),
             seconds: 0.0,
         })
@@ -246,6 +273,15 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
                 finished[f].seconds += t;
                 match r {
                     Ok(c) => finished[f].curves[k] = Some(*c),
+                    Err(e) => {
+                        failures.push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label))
+                    }
+                }
+            }
+            (Job::Folds(f, k), Done::Folds(r)) => {
+                finished[f].seconds += t;
+                match r {
+                    Ok(c) => finished[f].folds[k] = Some(*c),
                     Err(e) => {
                         failures.push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label))
                     }
@@ -309,6 +345,9 @@ fn write_figure<'a>(
     dir: &Path,
     out: &mut StudyOutcome,
 ) -> FigureResult<'a> {
+    if p.folds.is_some() {
+        return write_fold_figure(study, f, p, done, dir, out);
+    }
     let mut members = Vec::new();
     for (c, plan) in done.curves.iter().zip(&p.curves) {
         if let Some(c) = c {
@@ -381,6 +420,69 @@ fn write_figure<'a>(
             .map(|(pl, _)| pl.label.clone())
             .collect(),
         td_rows,
+        folds: Vec::new(),
+        seconds: done.seconds,
+    }
+}
+
+/// The files of a fold figure: per analysis its JSON and CSV, the fold curves of all
+/// of them in one figure, and with several analyses the least cusp of each against
+/// the varied value.
+fn write_fold_figure<'a>(
+    study: &'a Study,
+    f: usize,
+    p: &FigurePlan,
+    done: &'a Finished,
+    dir: &Path,
+    out: &mut StudyOutcome,
+) -> FigureResult<'a> {
+    let mut folds = Vec::new();
+    for (r, plan) in done.folds.iter().zip(&p.curves) {
+        if let Some(r) = r {
+            write(dir, format!("{}.csv", plan.stem), &report::folds_csv(r), out);
+            let json = serde_json::to_string_pretty(&report::folds_json(r)).unwrap_or_default();
+            write(dir, format!("{}.json", plan.stem), &json, out);
+            folds.push(FoldMember { label: plan.label.clone(), value: plan.value, folds: r });
+        }
+    }
+    if folds.is_empty() {
+        out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
+    } else {
+        let series: Vec<(&str, &FoldCurves)> =
+            folds.iter().map(|m| (m.label.as_str(), m.folds)).collect();
+        match report::folds_svg_family(&series, &p.title) {
+            Ok(svg) => write(dir, format!("{}.svg", p.id), &svg, out),
+            Err(e) => out.failures.push(format!("{}: {e}", p.id)),
+        }
+        let vary = study.figures[f].vary.as_ref().map(|v| v.get_ref().clone());
+        if let (Some(vary), true) = (vary, p.curves.len() > 1) {
+            let param = p.folds.as_ref().map_or("", |x| x.0.as_str());
+            let title = format!("{}: the least cusp of {param} against {vary}", p.title);
+            let points: Vec<(f64, f64)> =
+                folds.iter().filter_map(|m| m.least_cusp().map(|c| (m.value, c.value))).collect();
+            match report::trend_svg(&points, &vary, &format!("{param} at the cusp"), &title) {
+                Ok(svg) => write(dir, format!("{}_cusps.svg", p.id), &svg, out),
+                Err(e) => out.failures.push(format!("{}: {e}", p.id)),
+            }
+        }
+    }
+    out.figure_seconds.push((p.id.clone(), done.seconds));
+    FigureResult {
+        spec: &study.figures[f],
+        title: p.title.clone(),
+        outputs: p.outputs.clone(),
+        harmonics: p.harmonics,
+        range: p.range,
+        members: Vec::new(),
+        missing: p
+            .curves
+            .iter()
+            .zip(&done.folds)
+            .filter(|(_, c)| c.is_none())
+            .map(|(pl, _)| pl.label.clone())
+            .collect(),
+        td_rows: Vec::new(),
+        folds,
         seconds: done.seconds,
     }
 }

@@ -24,6 +24,9 @@
 //! params = { F = 0.01 }          # figure overrides (after the study's)
 //! # harmonics, frequency, unit, outputs, sweep: as above, for this figure only
 //! timedomain = { omegas = [5.0, 8.0], schemes = ["gl", "bdf2"], periods = 100 }
+//! # or, instead of amplitude–frequency curves, fold curves in the (Ω, P) plane (one
+//! # analysis per value of `vary`; no checks or timedomain):
+//! # folds = { param = "F", from = 0.005, to = 0.2 }
 //!
 //! [[figure.check]]               # a claim checked against the curves
 //! kind = "peak_omega"            # peak | peak_omega | folds | converges | timedomain
@@ -127,9 +130,25 @@ pub struct FigureSpec {
     pub sweep: Option<SweepSettings>,
     /// Time-domain comparison points.
     pub timedomain: Option<TimeDomainSpec>,
+    /// Fold curves in the plane of Ω and a parameter instead of amplitude–frequency
+    /// curves (one analysis per value of `vary`).
+    pub folds: Option<FoldSpec>,
     /// Claims checked against the results.
     #[serde(default, rename = "check")]
     pub checks: Vec<CheckSpec>,
+}
+
+/// A two-parameter fold analysis: the folds of the Ω-curves at both ends of the
+/// range of `param`, continued across it (`ihbm folds`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FoldSpec {
+    /// The second parameter.
+    pub param: Spanned<String>,
+    /// One end of its range.
+    pub from: f64,
+    /// The other end.
+    pub to: f64,
 }
 
 /// Time integrations to compare with the harmonic balance (paper Fig. 6).
@@ -331,6 +350,28 @@ impl Study {
                                 .map_err(|e| self.at(v.span(), format!("figure '{id}': {e}")))?;
                         }
                     }
+                }
+            }
+            if let Some(fs) = &fig.folds {
+                let name = fs.param.get_ref();
+                m.clone_box()
+                    .set_param(name, fs.from)
+                    .and_then(|_| m.clone_box().set_param(name, fs.to))
+                    .map_err(|e| self.at(fs.param.span(), format!("figure '{id}': {e}")))?;
+                if !(fs.from.is_finite() && fs.to.is_finite() && fs.from != fs.to) {
+                    return Err(self.at(
+                        fs.param.span(),
+                        format!(
+                            "figure '{id}': folds range {} to {} must be two different finite values",
+                            fs.from, fs.to
+                        ),
+                    ));
+                }
+                if fig.timedomain.is_some() || !fig.checks.is_empty() {
+                    return Err(self.at(
+                        fs.param.span(),
+                        format!("figure '{id}': a 'folds' figure takes no 'timedomain' or 'check'"),
+                    ));
                 }
             }
             if let Some(td) = &fig.timedomain {

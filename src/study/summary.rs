@@ -4,6 +4,7 @@
 use super::claims::{evaluate, Member, TdRow};
 use super::runner::StudyOutcome;
 use super::spec::{FigureSpec, Study};
+use crate::bifurcation::{Cusp, FoldCurves, TurnKind};
 use crate::report::{convergence_line, curve_facts};
 use std::fmt::Write;
 
@@ -25,8 +26,70 @@ pub struct FigureResult<'a> {
     pub missing: Vec<String>,
     /// Time-domain comparisons.
     pub td_rows: Vec<TdRow>,
+    /// The analyses of a fold figure that finished.
+    pub folds: Vec<FoldMember<'a>>,
     /// Compute time, s.
     pub seconds: f64,
+}
+
+/// One finished analysis of a fold figure.
+pub struct FoldMember<'a> {
+    /// Its label (`k3 = 5e6`, or the model's name).
+    pub label: String,
+    /// The varied value (NaN without `vary`).
+    pub value: f64,
+    /// The fold curves.
+    pub folds: &'a FoldCurves,
+}
+
+impl FoldMember<'_> {
+    /// The cusp with the least parameter value: where jumps begin as it grows.
+    pub fn least_cusp(&self) -> Option<&Cusp> {
+        self.folds
+            .cusps
+            .iter()
+            .filter(|c| c.kind == TurnKind::Cusp && c.located)
+            .min_by(|a, b| a.value.total_cmp(&b.value))
+    }
+}
+
+/// The fold figure's table: per analysis its turning points and how its curves ended.
+fn fold_table(s: &mut String, fig: &FigureResult) {
+    let _ = writeln!(
+        s,
+        "| analysis | parameter | turning points (kind: value at Ω rad/s) | curves ended |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|");
+    for m in &fig.folds {
+        let f = m.folds;
+        let turns = if f.cusps.is_empty() {
+            "none".to_string()
+        } else {
+            f.cusps
+                .iter()
+                .map(|c| format!("{}: {:.6e} at {:.4}", c.kind, c.value, c.omega))
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        let ends = f.curves.iter().map(|c| c.ended.to_string()).collect::<Vec<_>>().join(", ");
+        let _ = writeln!(s, "| {} | {} | {turns} | {ends} |", m.label, f.parameter);
+    }
+    for l in &fig.missing {
+        let _ = writeln!(s, "| {l} | — | failed | |");
+    }
+    s.push('\n');
+    for m in &fig.folds {
+        if let Some(c) = m.least_cusp() {
+            let _ = writeln!(
+                s,
+                "- **We find** ({}): jumps begin at {} = {:.6e} (cusp at Ω = {:.4} rad/s, N = {}).",
+                m.label, m.folds.parameter, c.value, c.omega, m.folds.harmonics
+            );
+        } else {
+            let _ = writeln!(s, "- **We find** ({}): no cusp in the range.", m.label);
+        }
+    }
+    s.push('\n');
 }
 
 /// The Markdown text of `summary.md`.
@@ -63,6 +126,11 @@ pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> Str
         let _ = writeln!(s, "## {} (`{}`)\n", fig.title, fig.spec.id.get_ref());
         if let Some(claim) = &fig.spec.claim {
             let _ = writeln!(s, "**Paper:** {claim}\n");
+        }
+        if fig.spec.folds.is_some() {
+            fold_table(&mut s, fig);
+            let _ = writeln!(s, "Compute time {:.2} s (summed over jobs).\n", fig.seconds);
+            continue;
         }
         let _ = writeln!(s, "| curve | output | peak max\\|x\\| | at Ω (rad/s) | folds at Ω (rad/s) | unstable points | ends |");
         let _ = writeln!(s, "|---|---|---|---|---|---|---|");

@@ -39,7 +39,9 @@ fn reference_study_encodes_the_papers_figures() {
     assert_eq!(outs, ["z1", "y"], "two panels: body displacement and suspension deflection");
     let ids: Vec<&str> = s.figures.iter().map(|f| f.id.get_ref().as_str()).collect();
     let expected = paper();
-    assert_eq!(ids, expected.iter().map(|e| e.0).collect::<Vec<_>>());
+    let mut want: Vec<&str> = expected.iter().map(|e| e.0).collect();
+    want.extend(["folds_k3", "folds_road"]);
+    assert_eq!(ids, want, "the paper's figures, then the fold curves that answer Fig. 9");
     for (fig, (id, vary, values)) in s.figures.iter().zip(&expected) {
         assert_eq!(fig.vary.as_ref().map(|v| v.get_ref().as_str()), *vary, "{id}");
         assert_eq!(&fig.values, values, "{id}");
@@ -146,7 +148,35 @@ fn reference_study_runs_and_every_file_parses() {
     for l in ["unstable (dashed)", "fold", "jump (slow sweep)"] {
         assert!(texts.iter().any(|t| t == l), "{l}: {texts:?}");
     }
+    // Where jumps begin: the cusp of the fold curve in k3 at F = 0.01, and the cusps in
+    // F for five k3. The quarter car's only nonlinearity is cubic, so x → s·x maps
+    // (k3, F) to (k3 s², F/s): F_c·√k3 is one constant and Ω_c one frequency.
+    let json = |stem: &str| -> Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(format!("{stem}.json"))).unwrap())
+            .unwrap()
+    };
+    let least_cusp = |v: &Value| -> (f64, f64) {
+        v["cusps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["kind"] == "cusp")
+            .map(|c| (c["value"].as_f64().unwrap(), c["omega"].as_f64().unwrap()))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap_or_else(|| panic!("no cusp: {}", v["cusps"]))
+    };
+    let (k3_c, omega_c) = least_cusp(&json("folds_k3"));
+    let invariant = 0.01 * k3_c.sqrt();
+    for k3 in [1e6, 2e6, 5e6, 1e7, 2e7] {
+        let (f_c, w) = least_cusp(&json(&format!("folds_road_k3_{}", fmt_num(k3))));
+        assert!((f_c * k3.sqrt() / invariant - 1.0).abs() < 1e-7, "k3 = {k3}: F_c = {f_c}");
+        assert!((w / omega_c - 1.0).abs() < 1e-7, "k3 = {k3}: Ω_c = {w} vs {omega_c}");
+    }
+    for f in ["folds_k3.svg", "folds_road.svg", "folds_road_cusps.svg", "folds_k3.csv"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("jumps begin at k3 = 3.2"), "the threshold next to the paper's claim");
     for (id, _, _) in paper() {
         assert!(summary.contains(&format!("(`{id}`)")), "{id}");
     }
@@ -255,4 +285,37 @@ fn name_clashes_and_outputs_over_the_input_are_refused() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("over its own file"), "{err}");
     assert_eq!(std::fs::read_to_string(&path).unwrap(), text, "the study file is untouched");
+}
+
+/// A fold figure's parameter and range are checked before anything runs, errors at
+/// the parameter's name (`file:line:col`); claims checked on curves do not apply to it.
+#[test]
+fn fold_figures_are_validated_before_running() {
+    let cli = Cli::builtin();
+    let head =
+        "model = \"duffing\"\nfrequency = { from = 0.5, to = 3.0 }\n[[figure]]\nid = \"f\"\n";
+    for (fig, needles) in [
+        ("folds = { param = \"q\", from = 0.01, to = 0.3 }\n", vec!["study.toml:5:19", "unknown parameter 'q'"]),
+        ("folds = { param = \"F\", from = 0.3, to = 0.3 }\n", vec!["study.toml:5:19", "two different finite values"]),
+        (
+            "folds = { param = \"F\", from = 0.01, to = 0.3 }\n[[figure.check]]\nkind = \"folds\"\nexpect = \"present\"\n",
+            vec!["study.toml:5:19", "takes no 'timedomain' or 'check'"],
+        ),
+    ] {
+        let text = format!("{head}{fig}");
+        let s = study::parse(&text, "study.toml").unwrap();
+        let e = s.validate(cli.registry()).unwrap_err().to_string();
+        for n in needles {
+            assert!(e.contains(n), "{e} does not contain {n}");
+        }
+    }
+    // and a valid one runs: the one-harmonic Duffing's cusp (closed form in the book)
+    let text = format!("{head}harmonics = 1\nfolds = {{ param = \"F\", from = 0.01, to = 0.3 }}\n");
+    let s = study::parse(&text, "study.toml").unwrap();
+    s.validate(cli.registry()).unwrap();
+    let dir = tmp("folds");
+    let outcome = study::run(&s, cli.registry(), &dir).unwrap();
+    assert!(outcome.failures.is_empty(), "{:#?}", outcome.failures);
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("jumps begin at F = 5.158455e-2"), "{summary}");
 }

@@ -13,18 +13,32 @@ const H: u32 = 600;
 /// Draw the fold curves and return the SVG document. The parameter axis is
 /// logarithmic when the range is positive and spans a decade or more.
 pub fn folds_svg(f: &FoldCurves, title: &str) -> Result<String, Error> {
-    let (lo, hi) = (f.range.0.min(f.range.1), f.range.0.max(f.range.1));
-    let pts = f.curves.iter().flat_map(|c| c.points.iter());
+    folds_svg_family(&[(f.model.as_str(), f)], title)
+}
+
+/// [`folds_svg`] for several analyses of one parameter (a study figure varying a
+/// second parameter): each in its own colour, with a legend when there are several.
+pub fn folds_svg_family(family: &[(&str, &FoldCurves)], title: &str) -> Result<String, Error> {
+    let Some((_, first)) = family.first() else {
+        return Err(Error::Other("no fold curves to draw".into()));
+    };
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut w0, mut w1) = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in pts {
-        w0 = w0.min(p.omega);
-        w1 = w1.max(p.omega);
+    for (_, f) in family {
+        lo = lo.min(f.range.0.min(f.range.1));
+        hi = hi.max(f.range.0.max(f.range.1));
+        for p in f.curves.iter().flat_map(|c| c.points.iter()) {
+            w0 = w0.min(p.omega);
+            w1 = w1.max(p.omega);
+        }
     }
     if !(w0.is_finite() && w1 > w0) {
-        (w0, w1) = f.omega;
+        (w0, w1) = first.omega;
     }
     let pad = 0.05 * (w1 - w0);
     let (x0, x1) = ((w0 - pad).max(0.0), w1 + pad);
+    let ylabel = first.parameter.as_str();
+    let legend = family.len() > 1;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (W, H)).into_drawing_area();
@@ -41,19 +55,137 @@ pub fn folds_svg(f: &FoldCurves, title: &str) -> Result<String, Error> {
             chart
                 .configure_mesh()
                 .x_desc("forcing frequency Ω (rad/s)")
-                .y_desc(f.parameter.as_str())
+                .y_desc(ylabel)
+                .y_label_formatter(&|v| tick(*v))
                 .draw()
                 .map_err(plot_err)?;
-            draw(&mut chart, f)?;
+            for (k, (label, f)) in family.iter().enumerate() {
+                draw(&mut chart, f, k, legend.then_some(*label))?;
+            }
+            if legend {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(plot_err)?;
+            }
         } else {
             let mut chart = cb.build_cartesian_2d(x0..x1, lo..hi).map_err(plot_err)?;
             chart
                 .configure_mesh()
                 .x_desc("forcing frequency Ω (rad/s)")
-                .y_desc(f.parameter.as_str())
+                .y_desc(ylabel)
+                .y_label_formatter(&|v| tick(*v))
                 .draw()
                 .map_err(plot_err)?;
-            draw(&mut chart, f)?;
+            for (k, (label, f)) in family.iter().enumerate() {
+                draw(&mut chart, f, k, legend.then_some(*label))?;
+            }
+            if legend {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .draw()
+                    .map_err(plot_err)?;
+            }
+        }
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}
+
+/// A tick label: plain for moderate magnitudes, `2e6` style beyond.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-3..1e5).contains(&a) {
+        format!("{}", (v * 1e6).round() / 1e6)
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Colours of a family's members.
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(20, 60, 140),
+    RGBColor(200, 100, 20),
+    RGBColor(30, 130, 60),
+    RGBColor(140, 40, 140),
+    RGBColor(120, 120, 120),
+    RGBColor(10, 140, 160),
+];
+
+/// Points `(x, y)` as markers joined by a line, log-log when all are positive: a
+/// quantity of each member of a family against the varied value (the least cusp of
+/// each fold analysis, for example).
+pub fn trend_svg(
+    points: &[(f64, f64)],
+    xlabel: &str,
+    ylabel: &str,
+    title: &str,
+) -> Result<String, Error> {
+    if points.is_empty() {
+        return Err(Error::Other("no points to draw".into()));
+    }
+    let fold = |f: fn(f64, f64) -> f64, init: f64, sel: fn(&(f64, f64)) -> f64| {
+        points.iter().map(sel).fold(init, f)
+    };
+    let (xl, xh) =
+        (fold(f64::min, f64::INFINITY, |p| p.0), fold(f64::max, f64::NEG_INFINITY, |p| p.0));
+    let (yl, yh) =
+        (fold(f64::min, f64::INFINITY, |p| p.1), fold(f64::max, f64::NEG_INFINITY, |p| p.1));
+    let pos = xl > 0.0 && yl > 0.0;
+    let widen = |lo: f64, hi: f64| {
+        if pos {
+            (lo / 1.5, hi * 1.5)
+        } else {
+            let pad = 0.1 * (hi - lo).abs().max(lo.abs().max(1e-300));
+            (lo - pad, hi + pad)
+        }
+    };
+    let ((x0, x1), (y0, y1)) = (widen(xl, xh), widen(yl, yh));
+    let mut pts = points.to_vec();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let color = PALETTE[0];
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (W, H)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let mut cb = ChartBuilder::on(&root);
+        cb.caption(title, ("sans-serif", 20))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(80);
+        macro_rules! body {
+            ($chart:expr) => {{
+                let mut chart = $chart;
+                chart
+                    .configure_mesh()
+                    .x_desc(xlabel)
+                    .y_desc(ylabel)
+                    .x_labels(8)
+                    .x_label_formatter(&|v| tick(*v))
+                    .y_label_formatter(&|v| tick(*v))
+                    .draw()
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series(
+                        pts.iter()
+                            .map(|&p| TriangleMarker::new(p, 7, RGBColor(200, 30, 30).filled())),
+                    )
+                    .map_err(plot_err)?;
+            }};
+        }
+        if pos {
+            body!(cb
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(plot_err)?);
+        } else {
+            body!(cb.build_cartesian_2d(x0..x1, y0..y1).map_err(plot_err)?);
         }
         root.present().map_err(plot_err)?;
     }
@@ -143,18 +275,27 @@ fn clip(tip: (f64, f64), branch: &[(f64, f64)], limit: f64) -> Vec<(f64, f64)> {
 fn draw<DB: DrawingBackend, CT>(
     chart: &mut ChartContext<'_, DB, CT>,
     f: &FoldCurves,
+    k: usize,
+    label: Option<&str>,
 ) -> Result<(), Error>
 where
     CT: plotters::coord::CoordTranslate<From = (f64, f64)>,
 {
-    let shade = RGBColor(70, 130, 180).mix(0.18);
+    let line = PALETTE[k % PALETTE.len()];
     for poly in regions(f) {
-        chart.draw_series(std::iter::once(Polygon::new(poly, shade.filled()))).map_err(plot_err)?;
+        chart
+            .draw_series(std::iter::once(Polygon::new(poly, line.mix(0.18).filled())))
+            .map_err(plot_err)?;
     }
-    let line = RGBColor(20, 60, 140);
-    for c in &f.curves {
+    for (i, c) in f.curves.iter().enumerate() {
         let xy: Vec<(f64, f64)> = c.points.iter().map(|p| (p.omega, p.value)).collect();
-        chart.draw_series(LineSeries::new(xy, line.stroke_width(2))).map_err(plot_err)?;
+        let series =
+            chart.draw_series(LineSeries::new(xy, line.stroke_width(2))).map_err(plot_err)?;
+        if let (Some(l), 0) = (label, i) {
+            series.label(l.to_string()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], line.stroke_width(2))
+            });
+        }
     }
     let red = RGBColor(200, 30, 30);
     let cusps = f.cusps.iter().filter(|k| k.kind == TurnKind::Cusp);

@@ -14,7 +14,7 @@ mod folds;
 mod key;
 mod svg;
 
-pub use folds::folds_svg;
+pub use folds::{folds_svg, folds_svg_family, trend_svg};
 
 use super::legend::{self, Placement, Rect};
 use super::smooth::Spline;
