@@ -1,7 +1,7 @@
 //! Locating events inside an accepted step: folds (the tangent's parameter component
 //! changes sign), changes of stability (the largest real part of the exponents
-//! crosses the tolerance) and the exact landing points of jumps. Each search walks
-//! along the step's border direction, correcting back onto the curve at every trial.
+//! crosses zero) and the exact landing points of jumps. Each search walks along the
+//! step's border direction, correcting back onto the curve at every trial.
 
 use super::events::Event;
 use super::jumps::Landing;
@@ -122,9 +122,17 @@ impl<M: Model> Continuation<'_, M> {
         let dirv = self.nodes[i + 1].border.clone();
         let h = self.nodes[i + 1].h;
         let base = dot(&dirv, &y_i);
-        let mut bracket = Illinois::new(h, g0, g1);
+        // The verdict uses a tolerance (unstable iff max Re λ > tol·Ω), but the
+        // bifurcation is where max Re λ = 0: locate that root when it lies in the step
+        // (it does unless both ends are within the tolerance of zero), so that the
+        // location converges with N instead of sitting at the tolerance's offset.
+        let shift = |k: usize| so.tol * self.trace.points[k].omega;
+        let (m0, m1) = (g0 + shift(i), g1 + shift(i + 1));
+        let exact = m0 * m1 < 0.0;
+        let (f0, f1) = if exact { (m0, m1) } else { (g0, g1) };
+        let mut bracket = Illinois::new(h, f0, f1);
         let mut y = vec![0.0; n + 1];
-        let mut best = self.nodes[if g0.abs() < g1.abs() { i } else { i + 1 }].y.clone();
+        let mut best = self.nodes[if f0.abs() < f1.abs() { i } else { i + 1 }].y.clone();
         let mut coeffs = vec![0.0; n];
         for _ in 0..40 {
             let s = bracket.next();
@@ -140,7 +148,7 @@ impl<M: Model> Continuation<'_, M> {
             let Ok(fl) = hill.analyse(&mut self.tr.bal, &coeffs, omega, so) else {
                 break;
             };
-            let f = fl.max_real - so.tol * omega;
+            let f = if exact { fl.max_real } else { fl.max_real - so.tol * omega };
             best.copy_from_slice(&y);
             if f == 0.0 || bracket.width() < 1e-10 * h {
                 return StabilityChange { y: best, located: true };
