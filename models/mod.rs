@@ -45,9 +45,11 @@
 pub mod base_excited;
 pub mod chain;
 pub mod duffing;
+pub mod quadratic;
 pub mod quarter_car;
 
 pub use base_excited::BaseExcited;
 pub use chain::TwoMassChain;
 pub use duffing::{Duffing, FractionalDuffing};
+pub use quadratic::Quadratic;
 pub use quarter_car::QuarterCar;

@@ -62,6 +62,14 @@ pub enum Error {
         /// See `omega_from`.
         omega_to: f64,
     },
+    /// A period-2 sweep found no period-doubling point of the period-1 curve to switch at.
+    #[error("no period doubling on the period-1 curve for Ω in [{from}, {to}]: no period-2 branch to switch onto (widen the range, or raise the forcing)")]
+    NoPeriodDoubling {
+        /// The frequency range swept.
+        from: f64,
+        /// See `from`.
+        to: f64,
+    },
     /// Newton did not converge; the last iterate is kept.
     #[error("Newton did not converge at omega = {omega} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept")]
     NotConverged {

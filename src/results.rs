@@ -33,6 +33,9 @@ pub enum SegmentEnd {
     Stalled(String),
     /// An observer stopped the run ([`Continuation::run`](crate::continuation::Continuation::run)).
     Stopped,
+    /// A branch started by switching came back to the solutions it left (a
+    /// period-2 branch rejoining the period-1 curve at another period doubling).
+    Rejoined,
 }
 
 impl std::fmt::Display for SegmentEnd {
@@ -42,6 +45,7 @@ impl std::fmt::Display for SegmentEnd {
             SegmentEnd::AmplitudeBound => write!(f, "amplitude bound"),
             SegmentEnd::Stalled(why) => write!(f, "stalled: {why}"),
             SegmentEnd::Stopped => write!(f, "stopped"),
+            SegmentEnd::Rejoined => write!(f, "rejoined the curve it branched from"),
         }
     }
 }

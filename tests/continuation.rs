@@ -10,6 +10,8 @@ mod convergence;
 mod duffing;
 #[path = "continuation/fold_curves.rs"]
 mod fold_curves;
+#[path = "continuation/period_two.rs"]
+mod period_two;
 #[path = "continuation/quarter_car.rs"]
 mod quarter_car;
 #[path = "continuation/snapshots.rs"]

@@ -26,6 +26,9 @@
 
 mod fold_curve;
 mod fold_system;
+mod period_two;
+
+pub use period_two::{embed, period_two, PeriodDoubled, Subharmonic};
 
 use crate::balance::Balance;
 use crate::continuation::{sweep, Control, SweepOptions};

@@ -54,6 +54,11 @@ pub enum Command {
         /// End frequency, rad/s (> from).
         #[arg(long, value_name = "W1", allow_negative_numbers = true)]
         to: f64,
+        /// 2: the branch of period 2·(2π/Ω), switched onto at the first period-doubling
+        /// point of the period-1 curve in the range (`--harmonics` then counts
+        /// harmonics of Ω/2).
+        #[arg(long, value_name = "1|2", default_value_t = 1)]
+        period: u32,
         /// Harmonics, overrides, output files and continuation settings.
         #[command(flatten)]
         curve: CurveArgs,
@@ -236,9 +241,11 @@ Examples:
   ihbm sweep duffing --from 0.5 --to 3 --json d.json --plot d.svg
   ihbm sweep duffing --from 0.5 --to 3 --max-step 0.02 --amplitude-bound abs:5 --no-stability
   ihbm sweep quarter-car --from 1 --to 80 --converge=1e-4 --json -
+  ihbm sweep quadratic --from 1.5 --to 2.6 --period 2 --harmonics 8 --plot p2.svg
 
 JSON: {model, harmonics, points, folds, jumps, segments, parameter, stats,
-bifurcations, convergence (only with --converge)}. Frequencies in rad/s.";
+bifurcations, convergence (only with --converge), period (only with --period 2)}.
+Frequencies in rad/s (with --period 2 still the forcing frequency).";
 
 const FOLDS_AFTER_HELP: &str = "\
 Examples:

@@ -63,17 +63,34 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, curve: args } => {
+        Command::Sweep { name, from, to, period, curve: args } => {
             distinct_outputs(&args)?;
+            if !(1..=2).contains(&period) {
+                return Err(Failure::usage(format!(
+                    "invalid --period: {period} (expected 1, or 2 for the period-doubled branch)"
+                )));
+            }
             let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
             let settings = args.cont.settings(args.harmonics);
+            if period == 2 {
+                let both = model.sweep_period_two(from, to, &settings);
+                pb.finish_and_clear();
+                let both = both.map_err(Failure::from_error)?;
+                let title = format!(
+                    "{name}: period-1 curve (N = {}) and period-2 branch (N = {} harmonics of Ω/2)",
+                    both.period_one.harmonics, both.period_two.harmonics
+                );
+                let (l1, l2) = (format!("{name} (period 1)"), format!("{name} (period 2)"));
+                let parent = Some((l1.as_str(), &both.period_one));
+                return write_curve(&both.period_two, &l2, &title, &args, parent, out);
+            }
             let mut watch = progress::CurveProgress::new(pb.clone(), &name);
-            let curve = model.sweep(from, to, &settings, &mut watch).map_err(Failure::from_error);
+            let curve = model.sweep(from, to, &settings, &mut watch);
             pb.finish_and_clear();
-            let curve = curve?;
+            let curve = curve.map_err(Failure::from_error)?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
-            write_curve(&curve, &name, &title, &args, out)
+            write_curve(&curve, &name, &title, &args, None, out)
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
             distinct_outputs(&args)?;
@@ -92,7 +109,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
-            write_curve(&curve, &name, &title, &args, out)
+            write_curve(&curve, &name, &title, &args, None, out)
         }
         Command::Folds { name, param, from, to, omega_from, omega_to, curve: args } => {
             distinct_outputs(&args)?;
@@ -239,15 +256,24 @@ fn write_curve(
     name: &str,
     title: &str,
     files: &CurveArgs,
+    parent: Option<(&str, &Curve)>,
     out: &mut dyn Write,
 ) -> Result<(), Failure> {
+    // A branch switched onto from a parent curve is the period-2 branch.
+    let json = || {
+        let mut v = report::sweep_json(curve);
+        if parent.is_some() {
+            v["period"] = 2.into();
+        }
+        v
+    };
     if let Some(path) = &files.csv {
         report::write_file(path, &report::curve_csv(curve)).map_err(Failure::failed)?;
     }
     if curve.points.is_empty() {
         // Nothing to draw; the JSON still says why each segment ended.
         if let Some(target) = files.json.as_deref() {
-            emit_json(&report::sweep_json(curve), target, out)?;
+            emit_json(&json(), target, out)?;
         }
         let why: Vec<String> = curve.segments.iter().map(|s| s.ended.to_string()).collect();
         return Err(Failure::failed(format!("the sweep produced no point ({})", why.join("; "))));
@@ -262,14 +288,18 @@ fn write_curve(
             title: title.to_string(),
             unit: FreqUnit::RadPerSec,
             panels,
-            series: vec![Series { label: name.to_string(), curve }],
+            series: parent
+                .map(|(label, c)| Series { label: label.to_string(), curve: c })
+                .into_iter()
+                .chain(std::iter::once(Series { label: name.to_string(), curve }))
+                .collect(),
             markers: vec![],
         };
         let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
         report::write_file(path, &svg).map_err(Failure::failed)?;
     }
     if let Some(target) = files.json.as_deref() {
-        return emit_json(&report::sweep_json(curve), target, out);
+        return emit_json(&json(), target, out);
     }
     // The continuation parameter as people write it, with its unit.
     let (p, unit) = if curve.parameter.is_omega() {

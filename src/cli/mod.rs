@@ -74,13 +74,16 @@ impl Cli {
 
     /// The `ihbm` binary's command line: every built-in model registered.
     pub fn builtin() -> Self {
-        use crate::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
+        use crate::models::{
+            BaseExcited, Duffing, FractionalDuffing, Quadratic, QuarterCar, TwoMassChain,
+        };
         Cli::new()
             .own_name::<QuarterCar>()
             .own_name::<Duffing>()
             .own_name::<FractionalDuffing>()
             .own_name::<TwoMassChain>()
             .own_name::<BaseExcited>()
+            .own_name::<Quadratic>()
     }
 
     /// Register `M::default()` under its own [`Model::name`].

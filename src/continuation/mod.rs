@@ -231,6 +231,32 @@ impl Default for SweepOptions {
     }
 }
 
+/// Trace the branch that leaves the solution `a0` at Ω = `omega0` along the coefficient
+/// direction `v` (branch switching: [`crate::bifurcation::period_two`]), for Ω in
+/// `[from, to]`. The first point is a step of `step` (relative to the largest
+/// coefficient of `a0`) along `v`; the branch is traced one way, until it leaves the
+/// range or comes back to where its components in `mask` (those `v` moves and `a0`
+/// lacks) are as small as at the first point (it rejoined the solutions it left).
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_branch<M: Model>(
+    model: &M,
+    from: f64,
+    to: f64,
+    opts: &SweepOptions,
+    a0: &[f64],
+    omega0: f64,
+    v: &[f64],
+    mask: &[bool],
+    step: f64,
+) -> Result<Curve> {
+    check_sweep(model, from, to, opts)?;
+    let mask = mask.to_vec();
+    let branch =
+        stepper::Branch { a0: a0.to_vec(), omega0, v: v.to_vec(), step, mask, start_size: 0.0 };
+    let c = Continuation::new(model, tracer::Axis::Omega, from, to, opts)?.with_branch(branch);
+    Ok(c.run(&mut ()))
+}
+
 /// Trace the amplitude–frequency curve of `model` for Ω from `from` to `to` (rad/s).
 ///
 /// Errors only for bad input (`from >= to`, non-finite or non-positive frequencies,

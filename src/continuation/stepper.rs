@@ -62,6 +62,21 @@ enum State {
     Done,
 }
 
+/// A start by branch switching: leave the solution `a0` at Ω = `omega0` along the
+/// coefficient direction `v`, and end where the components in `mask` (the
+/// directions the branch adds) shrink back below their size at the first point.
+#[derive(Debug, Clone)]
+pub(super) struct Branch {
+    pub a0: Vec<f64>,
+    pub omega0: f64,
+    pub v: Vec<f64>,
+    /// The first step along `v`, relative to the largest coefficient of `a0`.
+    pub step: f64,
+    pub mask: Vec<bool>,
+    /// `max |y[mask]|` at the first point (set when it is accepted).
+    pub start_size: f64,
+}
+
 /// A continuation run, driven step by step.
 ///
 /// ```
@@ -97,6 +112,10 @@ pub struct Continuation<'m, M: Model> {
     stab: Option<Stab>,
     state: State,
     queue: VecDeque<Event>,
+    /// Started by branch switching rather than at the range end.
+    branch: Option<Branch>,
+    /// A switched branch's new components have grown (see `rejoined`).
+    grown: bool,
     // step buffers
     y: Vec<f64>,
     t: Vec<f64>,
@@ -195,6 +214,8 @@ impl<'m, M: Model> Continuation<'m, M> {
             stab,
             state: State::Start(0),
             queue: VecDeque::new(),
+            branch: None,
+            grown: false,
             y: vec![0.0; n + 1],
             t: vec![0.0; n + 1],
             dirv: vec![0.0; n + 1],
@@ -297,8 +318,13 @@ impl<'m, M: Model> Continuation<'m, M> {
         self.trace.segments.push(Segment { from, to, ended });
         self.queue.push_back(Event::SegmentEnd(self.trace.segments.len() - 1));
         // The sweep restarts from the other end when the first segment did not get
-        // there (runaway branch, stall); nothing of the first is discarded.
-        self.state = if seg == 0 && !reached_hi { State::Start(1) } else { State::Ending };
+        // there (runaway branch, stall); nothing of the first is discarded. A branch
+        // has one segment: from its start the other way is its mirror image.
+        self.state = if seg == 0 && !reached_hi && self.branch.is_none() {
+            State::Start(1)
+        } else {
+            State::Ending
+        };
     }
 
     /// Solve at `lam` from the linearised response (or the corrector for Ω).
@@ -331,7 +357,60 @@ impl<'m, M: Model> Continuation<'m, M> {
         self.tr.locate(&mut y, &e_n, target).map(|_| y)
     }
 
+    /// Start a branch by switching ([`Branch`]).
+    pub(super) fn with_branch(mut self, b: Branch) -> Self {
+        self.branch = Some(b);
+        self
+    }
+
+    /// The first point of a switched branch: corrected with Ω free on
+    /// `vᵀ(a − a0) = ε`, which the solution it leaves cannot satisfy.
+    fn start_branch(&mut self) {
+        let n = self.tr.n;
+        let Some(b) = self.branch.clone() else { return };
+        let sa = self.tr.sa;
+        let mut y0: Vec<f64> = b.a0.iter().map(|a| a / sa).collect();
+        y0.push(b.omega0 / self.tr.sl);
+        let amp = y0[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let eps = b.step * amp.max(f64::MIN_POSITIVE);
+        let mut border: Vec<f64> = b.v.clone();
+        let norm = dot(&border, &border).sqrt();
+        border.iter_mut().for_each(|x| *x /= norm);
+        border.push(0.0);
+        let target = dot(&border, &y0) + eps;
+        let mut y: Vec<f64> = y0.iter().zip(&border).map(|(a, d)| a + eps * d).collect();
+        if let Err(why) = self.tr.locate_exact(&mut y, &border, target) {
+            let why = format!("no branch found at Ω = {}: {why}", b.omega0);
+            return self.end_segment(0, SegmentEnd::Stalled(why));
+        }
+        let mut t0 = vec![0.0; n + 1];
+        self.tr.tangent(&mut t0);
+        // the tangent solves K t = e: it points along the border, away from a0
+        let size = (0..n).filter(|&i| b.mask[i]).fold(0.0f64, |m, i| m.max(y[i].abs()));
+        if let Some(br) = self.branch.as_mut() {
+            br.start_size = size;
+        }
+        self.accept(y, t0.clone(), t0, 0.0, 0);
+        let first = self.nodes.len() - 1;
+        self.state = State::Walk { seg: 0, first, h: self.opts.initial_step };
+    }
+
+    /// A switched branch back on the solutions it left: its new components no larger
+    /// than at its first point, after having grown past twice that.
+    fn rejoined(&mut self) -> bool {
+        let (Some(b), Some(nd)) = (&self.branch, self.nodes.last()) else { return false };
+        let size = (0..self.tr.n).filter(|&i| b.mask[i]).fold(0.0f64, |m, i| m.max(nd.y[i].abs()));
+        let start = b.start_size;
+        if size > 2.0 * start {
+            self.grown = true;
+        }
+        self.grown && size <= start
+    }
+
     fn start_segment(&mut self, seg: usize) {
+        if seg == 0 && self.branch.is_some() {
+            return self.start_branch();
+        }
         let n = self.tr.n;
         let (lam0, dir) = if seg == 0 { (self.lo, 1.0) } else { (self.hi, -1.0) };
         let y0 = match self.start_point(lam0) {
@@ -414,6 +493,9 @@ impl<'m, M: Model> Continuation<'m, M> {
             self.accept(y.clone(), t.clone(), dirv.clone(), h, seg);
             if self.beyond_bound() {
                 break Some(SegmentEnd::AmplitudeBound);
+            }
+            if self.rejoined() {
+                break Some(SegmentEnd::Rejoined);
             }
             // Step control: corrector effort (Newton iterations: chord updates in
             // between are cheap) and tangent turn.

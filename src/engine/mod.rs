@@ -147,6 +147,25 @@ pub fn sweep<M: Model>(
     Ok(curve)
 }
 
+/// The period-2 branch for Ω from `from` to `to`, switched onto at the first period
+/// doubling of the period-1 curve ([`bifurcation::period_two`]); `s.harmonics` counts
+/// harmonics of Ω/2.
+pub fn sweep_period_two<M: Model + Clone>(
+    name: &str,
+    model: &M,
+    from: f64,
+    to: f64,
+    s: &SweepSettings,
+) -> Result<bifurcation::PeriodDoubled> {
+    check_omega("--from", from)?;
+    check_omega("--to", to)?;
+    let opts = s.options().map_err(|e| e.cli())?;
+    let mut both = bifurcation::period_two(model, from, to, &opts)?;
+    both.period_one.model = name.to_string();
+    both.period_two.model = name.to_string();
+    Ok(both)
+}
+
 /// A parameter sweep at a fixed frequency: which parameter, over which range.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParamRange<'a> {

@@ -5,7 +5,7 @@
 //! monomorphises solve, sweep and simulate for `M`.
 
 use super::{self as engine, FoldRange, ParamRange, SimSettings, SolveSettings, SweepSettings};
-use crate::bifurcation::{FoldCurves, FoldEvent};
+use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled};
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo, Text};
@@ -35,6 +35,8 @@ pub trait AnyModel: Send + Sync {
     /// Trace a frequency sweep.
     fn sweep(&self, from: f64, to: f64, s: &SweepSettings, obs: &mut dyn Observer)
         -> Result<Curve>;
+    /// The period-2 branch, switched onto at a period doubling of the period-1 curve.
+    fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled>;
     /// Trace the response at a fixed frequency as one parameter moves.
     fn sweep_param(
         &self,
@@ -121,6 +123,9 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         let mut c = engine::sweep(&self.name, &self.model, from, to, s, obs)?;
         c.model = self.name.clone();
         Ok(c)
+    }
+    fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled> {
+        engine::sweep_period_two(&self.name, &self.model, from, to, s)
     }
     fn sweep_param(
         &self,

@@ -479,3 +479,62 @@ fn folds_writes_contract_json_csv_and_plot() {
         &["range of F"],
     );
 }
+
+/// `sweep --period 2` (CONTRACT section 3): the JSON of `sweep` with `"period": 2`, Ω
+/// the forcing frequency, starting where the period-1 curve (traced separately) has
+/// its period doubling; bad periods and ranges without period doubling refused.
+#[test]
+fn sweep_period_two_switches_at_the_period_doubling() {
+    let o = ihbm(&[
+        "sweep",
+        "quadratic",
+        "--from",
+        "1.5",
+        "--to",
+        "2.6",
+        "--harmonics",
+        "4",
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let p1: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let pd = p1["bifurcations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["kind"] == "period-doubling")
+        .unwrap_or_else(|| panic!("no period doubling: {}", p1["bifurcations"]))["omega"]
+        .as_f64()
+        .unwrap();
+    let o = ihbm(&[
+        "sweep",
+        "quadratic",
+        "--from",
+        "1.5",
+        "--to",
+        "2.6",
+        "--period",
+        "2",
+        "--harmonics",
+        "8",
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(keys(&v)[..6], ["model", "harmonics", "points", "folds", "jumps", "segments"]);
+    assert_eq!(v["period"], 2);
+    assert_eq!(v["harmonics"], 8);
+    let points = v["points"].as_array().unwrap();
+    let first = points[0]["omega"].as_f64().unwrap();
+    assert!((first - pd).abs() < 1e-5 * pd, "starts at {first}, period doubling at {pd}");
+    assert!(points.iter().all(|p| (1.5..=2.6).contains(&p["omega"].as_f64().unwrap())));
+    assert_rejected(
+        &["sweep", "quadratic", "--from", "1.5", "--to", "2.6", "--period", "3"],
+        &["--period", "3"],
+    );
+    let o = ihbm(&["sweep", "duffing", "--from", "0.5", "--to", "3", "--period", "2"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("no period doubling"), "{}", stderr(&o));
+}

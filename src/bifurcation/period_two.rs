@@ -1,0 +1,252 @@
+//! The branch that period doubling opens: solutions of period `2T = 2·(2π/Ω)`,
+//! found by harmonic balance in `Ω/2` ([`Subharmonic`]) and started by branch
+//! switching at a period-doubling point of the period-1 curve.
+//!
+//! In the harmonics of `Ω/2` a period-1 solution has only even harmonics, and its
+//! Jacobian couples even with even and odd with odd. At period doubling the odd block
+//! turns singular (a Floquet multiplier −1): its null vector `v` is the direction of
+//! the new branch, which leaves the period-1 solution `a*` like a pitchfork (the
+//! branch and its copy shifted by `T` are `a* ± εv + ...`). The first point is
+//! corrected with Ω free on the condition `vᵀ(a − a*) = ε`, which the period-1
+//! solution cannot satisfy; the branch is then traced like any curve, and ends where
+//! its odd harmonics vanish again: where it rejoins the period-1 curve at another
+//! period-doubling point.
+
+use crate::balance::Balance;
+use crate::continuation::{self, SweepOptions};
+use crate::corrector::{self, SolveOptions};
+use crate::error::{Error, Result};
+use crate::linalg::DenseLu;
+use crate::model::{Model, Output, ParamInfo, Signal, Text};
+use crate::results::{BifurcationKind, Curve};
+use faer::prelude::ReborrowMut;
+use num_dual::DualNum;
+
+/// A model seen at half its forcing frequency: the harmonic balance of
+/// `Subharmonic(m)` at `ω` is that of `m` at `Ω = 2ω` in the harmonics of `Ω/2`, so
+/// its solutions have period `2·(2π/Ω)`. Every other property is the model's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Subharmonic<M>(pub M);
+
+impl<M: Model> Model for Subharmonic<M> {
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+    fn description(&self) -> &str {
+        self.0.description()
+    }
+    fn dofs(&self) -> &[Text] {
+        self.0.dofs()
+    }
+    fn params_info(&self) -> &[ParamInfo] {
+        self.0.params_info()
+    }
+    fn param_value(&self, index: usize) -> f64 {
+        self.0.param_value(index)
+    }
+    fn set_param_value(&mut self, index: usize, value: f64) {
+        self.0.set_param_value(index, value)
+    }
+    fn signals(&self) -> &[Signal] {
+        self.0.signals()
+    }
+    fn outputs(&self) -> &[Output] {
+        self.0.outputs()
+    }
+    fn degree(&self) -> usize {
+        self.0.degree()
+    }
+    fn max_forcing_harmonic(&self) -> usize {
+        2 * self.0.max_forcing_harmonic()
+    }
+    fn equations(&self) -> &[Text] {
+        self.0.equations()
+    }
+    fn affine_signals(&self) -> &[bool] {
+        self.0.affine_signals()
+    }
+    fn explicit_omega(&self) -> bool {
+        self.0.explicit_omega()
+    }
+    fn residual<D: DualNum<Primitive = f64> + Copy>(
+        &self,
+        params: &[D],
+        omega: D,
+        phase: f64,
+        signals: &[D],
+        out: &mut [D],
+    ) {
+        self.0.residual(params, omega * 2.0, 2.0 * phase, signals, out)
+    }
+}
+
+/// Relative size of the first step off the period-1 solution along the critical
+/// direction (of the largest coefficient of that solution).
+const SWITCH_STEP: f64 = 1e-3;
+
+/// A period-1 curve and the period-2 branch switched onto at its period doubling.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodDoubled {
+    /// The period-1 curve (`⌈N/2⌉` harmonics of Ω), with its stability.
+    pub period_one: Curve,
+    /// The period-2 branch (`N` harmonics of Ω/2); Ω values are forcing frequencies,
+    /// coefficients are in the harmonics of Ω/2 (layout of [`Subharmonic`]).
+    pub period_two: Curve,
+    /// The forcing frequency of the period doubling it was switched onto at.
+    pub switched_at: f64,
+}
+
+/// The period-2 branch of `model` for Ω from `from` to `to`: the period-1 curve is
+/// traced with `⌈N/2⌉` harmonics, and the branch starts at its first located
+/// period-doubling point; `opts.harmonics` counts harmonics of `Ω/2`.
+///
+/// Errors for bad input, and when the period-1 curve has no located period doubling
+/// in the range ([`Error::NoPeriodDoubling`]).
+///
+/// ```
+/// use ihbm::bifurcation::period_two;
+/// use ihbm::continuation::SweepOptions;
+/// use ihbm::models::Quadratic;
+/// let opts = SweepOptions { harmonics: 8, ..Default::default() };
+/// let both = period_two(&Quadratic::default(), 1.5, 2.6, &opts).unwrap();
+/// // the branch leaves the period-1 curve where it doubles its period
+/// assert!((both.period_two.points[0].omega - both.switched_at).abs() < 1e-4);
+/// ```
+pub fn period_two<M: Model + Clone>(
+    model: &M,
+    from: f64,
+    to: f64,
+    opts: &SweepOptions,
+) -> Result<PeriodDoubled> {
+    let n2 = opts.harmonics;
+    let n1 = n2.div_ceil(2);
+    let mut o1 = opts.clone();
+    o1.harmonics = n1;
+    o1.convergence = None;
+    if o1.stability.is_none() {
+        o1.stability = Some(Default::default());
+    }
+    let curve1 = continuation::sweep(model, from, to, &o1)?;
+    let Some(pd) =
+        curve1.bifurcations.iter().find(|b| b.kind == BifurcationKind::PeriodDoubling && b.located)
+    else {
+        return Err(Error::NoPeriodDoubling { from, to });
+    };
+    let omega_pd = pd.omega;
+    // The period-1 solution at the point, from the nearest point of the curve.
+    let near = &curve1.points[pd.after];
+    let so = SolveOptions { harmonics: n1, ..Default::default() };
+    let sol = corrector::solve(model, omega_pd, &so, Some(&near.coeffs))?;
+    let sub = Subharmonic(model.clone());
+    let ndof = model.dofs().len();
+    let a_star = embed(&sol.coeffs, ndof, n1, n2);
+    let w = omega_pd / 2.0;
+    let mask = odd_harmonics(ndof, n2);
+    let v = critical_direction(&sub, n2, &a_star, w, &mask)?;
+    let mut curve = continuation::sweep_branch(
+        &sub,
+        from / 2.0,
+        to / 2.0,
+        opts,
+        &a_star,
+        w,
+        &v,
+        &mask,
+        SWITCH_STEP,
+    )?;
+    double_frequencies(&mut curve);
+    Ok(PeriodDoubled { period_one: curve1, period_two: curve, switched_at: omega_pd })
+}
+
+/// Period-1 coefficients (`n1` harmonics of Ω) as coefficients in `n2` harmonics of
+/// `Ω/2`: harmonic `k` becomes harmonic `2k`.
+pub fn embed(a: &[f64], ndof: usize, n1: usize, n2: usize) -> Vec<f64> {
+    let (l1, l2) = (2 * n1 + 1, 2 * n2 + 1);
+    let mut out = vec![0.0; ndof * l2];
+    for d in 0..ndof {
+        let (src, dst) = (&a[d * l1..(d + 1) * l1], &mut out[d * l2..(d + 1) * l2]);
+        dst[0] = src[0];
+        for k in 1..=n1 {
+            if 2 * k <= n2 {
+                dst[2 * k] = src[k];
+                dst[n2 + 2 * k] = src[n1 + k];
+            }
+        }
+    }
+    out
+}
+
+/// Which coefficients (`ndof` blocks of `2n + 1`) belong to odd harmonics.
+fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
+    let l = 2 * n + 1;
+    (0..ndof * l)
+        .map(|i| {
+            let k = i % l;
+            let h = if k <= n { k } else { k - n };
+            h % 2 == 1
+        })
+        .collect()
+}
+
+/// The null vector of the odd-harmonic block of the Jacobian at the period-1
+/// solution `a` (harmonics of `w = Ω/2`): two steps of inverse iteration from a vector
+/// in the odd harmonics, which the Jacobian keeps apart from the even ones.
+fn critical_direction<M: Model>(
+    sub: &M,
+    n2: usize,
+    a: &[f64],
+    w: f64,
+    odd: &[bool],
+) -> Result<Vec<f64>> {
+    let mut bal = Balance::new(sub, n2)?;
+    let len = bal.len();
+    debug_assert_eq!(len, odd.len());
+    let mut lu = DenseLu::new(len);
+    let mut r = vec![0.0; len];
+    bal.jacobian(a, w, &mut r, lu.matrix_mut().rb_mut());
+    if lu.factor().is_nan() {
+        return Err(Error::Other(format!(
+            "non-finite Jacobian at the period doubling at Ω = {}",
+            2.0 * w
+        )));
+    }
+    let mut v: Vec<f64> = odd.iter().map(|&o| if o { 1.0 } else { 0.0 }).collect();
+    for _ in 0..3 {
+        lu.solve(&mut v);
+        // rounding aside the even components stay zero: keep them so
+        v.iter_mut().zip(odd).filter(|(_, &o)| !o).for_each(|(x, _)| *x = 0.0);
+        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(Error::Other(format!(
+                "no critical direction at the period doubling at Ω = {}",
+                2.0 * w
+            )));
+        }
+        v.iter_mut().for_each(|x| *x /= norm);
+    }
+    Ok(v)
+}
+
+/// Ω in the curve's own units (`Ω/2` of the subharmonic balance) back to the forcing
+/// frequency.
+fn double_frequencies(c: &mut Curve) {
+    for p in &mut c.points {
+        p.omega *= 2.0;
+        p.param *= 2.0;
+    }
+    for f in &mut c.folds {
+        f.omega *= 2.0;
+        f.param *= 2.0;
+    }
+    for b in &mut c.bifurcations {
+        b.omega *= 2.0;
+        b.param *= 2.0;
+    }
+    for j in &mut c.jumps {
+        j.at *= 2.0;
+    }
+    for s in &mut c.segments {
+        s.from *= 2.0;
+        s.to *= 2.0;
+    }
+}
