@@ -22,7 +22,7 @@
 //! positive values, the logarithm (so that steps are relative in `P`).
 
 use crate::balance::{Balance, BilinearWork};
-use crate::continuation::tracer::dot;
+use crate::continuation::tracer::{dot, no_convergence, stalling};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
@@ -299,15 +299,12 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             if it >= 2 && dn > 0.5 * prev && floor {
                 return Ok(it);
             }
-            if it >= 3 && dn > 0.5 * prev {
-                return Err(format!(
-                    "Newton not contracting at Ω = {:.6} (step {dn:.2e} after {prev:.2e})",
-                    self.omega(y)
-                ));
+            if let Some(why) = stalling(it, dn, prev, self.omega(y)) {
+                return Err(why);
             }
             prev = dn;
         }
-        Err(format!("no convergence in {budget} iterations at Ω = {:.6}", self.omega(y)))
+        Err(no_convergence(budget, self.omega(y)))
     }
 
     /// The unit tangent from the LU of the last Newton step (oriented along its border).

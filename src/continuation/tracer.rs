@@ -280,15 +280,12 @@ impl<'m, M: Model> Tracer<'m, M> {
                     last = dc;
                 }
             }
-            if it >= 3 && dn > 0.5 * prev {
-                return Err(format!(
-                    "Newton not contracting at Ω = {:.6} (step {dn:.2e} after {prev:.2e})",
-                    self.omega(y)
-                ));
+            if let Some(why) = stalling(it, dn, prev, self.omega(y)) {
+                return Err(why);
             }
             prev = dn;
         }
-        Err(format!("no convergence in {budget} iterations at Ω = {:.6}", self.omega(y)))
+        Err(no_convergence(budget, self.omega(y)))
     }
 
     /// The unit tangent from the LU of the last `correct` (oriented along its border).
@@ -302,6 +299,20 @@ impl<'m, M: Model> Tracer<'m, M> {
             *ti = v / norm;
         }
     }
+}
+
+/// Why a Newton run at Ω stops early: from its third step on, an update `dn` more
+/// than half the one before (`prev`) is not the quadratic convergence a correct
+/// Jacobian gives near a solution, and more iterations will not help.
+pub(crate) fn stalling(it: usize, dn: f64, prev: f64, omega: f64) -> Option<String> {
+    (it >= 3 && dn > 0.5 * prev).then(|| {
+        format!("Newton not contracting at Ω = {omega:.6} (step {dn:.2e} after {prev:.2e})")
+    })
+}
+
+/// Why a Newton run at Ω ended after its whole budget.
+pub(crate) fn no_convergence(budget: usize, omega: f64) -> String {
+    format!("no convergence in {budget} iterations at Ω = {omega:.6}")
 }
 
 /// Newton iterations allowed to the solves that locate a point (see

@@ -399,29 +399,46 @@ fn write_figure<'a>(
     if members.is_empty() && td_rows.is_empty() {
         out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
     } else {
-        match report::figure_svg(&fig) {
-            Ok(svg) => write(dir, format!("{}.svg", p.id), &svg, out),
-            Err(e) => out.failures.push(format!("{}: {e}", p.id)),
-        }
+        write_svg(dir, format!("{}.svg", p.id), report::figure_svg(&fig), &p.id, out);
     }
     out.figure_seconds.push((p.id.clone(), done.seconds));
+    FigureResult { members, td_rows, ..result(study, f, p, &done.curves, done.seconds) }
+}
+
+/// The result of figure `f` for the summary, with nothing finished in it yet but the
+/// labels of the parts that are missing from `done`.
+fn result<'a, T>(
+    study: &'a Study,
+    f: usize,
+    p: &FigurePlan,
+    done: &[Option<T>],
+    seconds: f64,
+) -> FigureResult<'a> {
     FigureResult {
         spec: &study.figures[f],
         title: p.title.clone(),
         outputs: p.outputs.clone(),
         harmonics: p.harmonics,
         range: p.range,
-        members,
+        members: Vec::new(),
         missing: p
             .curves
             .iter()
-            .zip(&done.curves)
+            .zip(done)
             .filter(|(_, c)| c.is_none())
             .map(|(pl, _)| pl.label.clone())
             .collect(),
-        td_rows,
+        td_rows: Vec::new(),
         folds: Vec::new(),
-        seconds: done.seconds,
+        seconds,
+    }
+}
+
+/// Write a drawn figure, or record why it could not be drawn.
+fn write_svg(dir: &Path, name: String, svg: Result<String>, id: &str, out: &mut StudyOutcome) {
+    match svg {
+        Ok(svg) => write(dir, name, &svg, out),
+        Err(e) => out.failures.push(format!("{id}: {e}")),
     }
 }
 
@@ -450,39 +467,18 @@ fn write_fold_figure<'a>(
     } else {
         let series: Vec<(&str, &FoldCurves)> =
             folds.iter().map(|m| (m.label.as_str(), m.folds)).collect();
-        match report::folds_svg_family(&series, &p.title) {
-            Ok(svg) => write(dir, format!("{}.svg", p.id), &svg, out),
-            Err(e) => out.failures.push(format!("{}: {e}", p.id)),
-        }
+        let svg = report::folds_svg_family(&series, &p.title);
+        write_svg(dir, format!("{}.svg", p.id), svg, &p.id, out);
         let vary = study.figures[f].vary.as_ref().map(|v| v.get_ref().clone());
         if let (Some(vary), true) = (vary, p.curves.len() > 1) {
             let param = p.folds.as_ref().map_or("", |x| x.0.as_str());
             let title = format!("{}: the least cusp of {param} against {vary}", p.title);
             let points: Vec<(f64, f64)> =
                 folds.iter().filter_map(|m| m.least_cusp().map(|c| (m.value, c.value))).collect();
-            match report::trend_svg(&points, &vary, &format!("{param} at the cusp"), &title) {
-                Ok(svg) => write(dir, format!("{}_cusps.svg", p.id), &svg, out),
-                Err(e) => out.failures.push(format!("{}: {e}", p.id)),
-            }
+            let svg = report::trend_svg(&points, &vary, &format!("{param} at the cusp"), &title);
+            write_svg(dir, format!("{}_cusps.svg", p.id), svg, &p.id, out);
         }
     }
     out.figure_seconds.push((p.id.clone(), done.seconds));
-    FigureResult {
-        spec: &study.figures[f],
-        title: p.title.clone(),
-        outputs: p.outputs.clone(),
-        harmonics: p.harmonics,
-        range: p.range,
-        members: Vec::new(),
-        missing: p
-            .curves
-            .iter()
-            .zip(&done.folds)
-            .filter(|(_, c)| c.is_none())
-            .map(|(pl, _)| pl.label.clone())
-            .collect(),
-        td_rows: Vec::new(),
-        folds,
-        seconds: done.seconds,
-    }
+    FigureResult { folds, ..result(study, f, p, &done.folds, done.seconds) }
 }

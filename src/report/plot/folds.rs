@@ -2,7 +2,7 @@
 //! curve a line, each cusp a filled triangle (an isola point a ring), and the region where the amplitude–frequency
 //! curve has three solutions (between the two folds of one hysteresis) shaded.
 
-use super::plot_err;
+use super::{plot_err, COLORS};
 use crate::bifurcation::{CurveEnd, FoldCurve, FoldCurves, TurnKind};
 use crate::error::Error;
 use plotters::prelude::*;
@@ -44,56 +44,43 @@ pub fn folds_svg_family(family: &[(&str, &FoldCurves)], title: &str) -> Result<S
         let root = SVGBackend::with_string(&mut svg, (W, H)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut cb = ChartBuilder::on(&root);
-        cb.caption(title, ("sans-serif", 20))
-            .margin(16)
-            .x_label_area_size(44)
-            .y_label_area_size(80);
-        let log = lo > 0.0 && hi / lo >= 10.0;
-        if log {
-            let mut chart =
-                cb.build_cartesian_2d(x0..x1, (lo..hi).log_scale()).map_err(plot_err)?;
-            chart
-                .configure_mesh()
-                .x_desc("forcing frequency Ω (rad/s)")
-                .y_desc(ylabel)
-                .y_label_formatter(&|v| tick(*v))
-                .draw()
-                .map_err(plot_err)?;
-            for (k, (label, f)) in family.iter().enumerate() {
-                draw(&mut chart, f, k, legend.then_some(*label))?;
-            }
-            if legend {
+        frame(&mut cb, title);
+        macro_rules! body {
+            ($chart:expr) => {{
+                let mut chart = $chart;
                 chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
+                    .configure_mesh()
+                    .x_desc("forcing frequency Ω (rad/s)")
+                    .y_desc(ylabel)
+                    .y_label_formatter(&|v| tick(*v))
                     .draw()
                     .map_err(plot_err)?;
-            }
+                for (k, (label, f)) in family.iter().enumerate() {
+                    draw(&mut chart, f, k, legend.then_some(*label))?;
+                }
+                if legend {
+                    chart
+                        .configure_series_labels()
+                        .background_style(WHITE.mix(0.85))
+                        .border_style(BLACK)
+                        .draw()
+                        .map_err(plot_err)?;
+                }
+            }};
+        }
+        if lo > 0.0 && hi / lo >= 10.0 {
+            body!(cb.build_cartesian_2d(x0..x1, (lo..hi).log_scale()).map_err(plot_err)?);
         } else {
-            let mut chart = cb.build_cartesian_2d(x0..x1, lo..hi).map_err(plot_err)?;
-            chart
-                .configure_mesh()
-                .x_desc("forcing frequency Ω (rad/s)")
-                .y_desc(ylabel)
-                .y_label_formatter(&|v| tick(*v))
-                .draw()
-                .map_err(plot_err)?;
-            for (k, (label, f)) in family.iter().enumerate() {
-                draw(&mut chart, f, k, legend.then_some(*label))?;
-            }
-            if legend {
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .draw()
-                    .map_err(plot_err)?;
-            }
+            body!(cb.build_cartesian_2d(x0..x1, lo..hi).map_err(plot_err)?);
         }
         root.present().map_err(plot_err)?;
     }
     Ok(svg)
+}
+
+/// The title and margins of the figures here.
+fn frame<DB: DrawingBackend>(cb: &mut ChartBuilder<'_, '_, DB>, title: &str) {
+    cb.caption(title, ("sans-serif", 20)).margin(16).x_label_area_size(44).y_label_area_size(80);
 }
 
 /// A tick label: plain for moderate magnitudes, `2e6` style beyond.
@@ -105,16 +92,6 @@ fn tick(v: f64) -> String {
         format!("{v:e}")
     }
 }
-
-/// Colours of a family's members.
-const PALETTE: [RGBColor; 6] = [
-    RGBColor(20, 60, 140),
-    RGBColor(200, 100, 20),
-    RGBColor(30, 130, 60),
-    RGBColor(140, 40, 140),
-    RGBColor(120, 120, 120),
-    RGBColor(10, 140, 160),
-];
 
 /// Points `(x, y)` as markers joined by a line, log-log when all are positive: a
 /// quantity of each member of a family against the varied value (the least cusp of
@@ -147,16 +124,13 @@ pub fn trend_svg(
     let ((x0, x1), (y0, y1)) = (widen(xl, xh), widen(yl, yh));
     let mut pts = points.to_vec();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let color = PALETTE[0];
+    let color = COLORS[0];
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (W, H)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let mut cb = ChartBuilder::on(&root);
-        cb.caption(title, ("sans-serif", 20))
-            .margin(16)
-            .x_label_area_size(44)
-            .y_label_area_size(80);
+        frame(&mut cb, title);
         macro_rules! body {
             ($chart:expr) => {{
                 let mut chart = $chart;
@@ -281,7 +255,7 @@ fn draw<DB: DrawingBackend, CT>(
 where
     CT: plotters::coord::CoordTranslate<From = (f64, f64)>,
 {
-    let line = PALETTE[k % PALETTE.len()];
+    let line = COLORS[k % COLORS.len()];
     for poly in regions(f) {
         chart
             .draw_series(std::iter::once(Polygon::new(poly, line.mix(0.18).filled())))

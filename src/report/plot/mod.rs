@@ -74,7 +74,8 @@ pub struct Figure<'a> {
     pub markers: Vec<TimeMarker>,
 }
 
-const COLORS: [RGBColor; 10] = [
+/// The colours of a family's members, in order (also the fold-curve figures').
+pub(super) const COLORS: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
