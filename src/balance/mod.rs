@@ -124,6 +124,18 @@ impl<'m, M: Model> Balance<'m, M> {
         model.validate()?;
         let ndof = model.dofs().len();
         check_size(ndof, harmonics)?;
+        // Fewer harmonics than the forcing has would drop part of it without a word.
+        let kf = model.max_forcing_harmonic();
+        if harmonics < kf {
+            return Err(Error::InvalidValue {
+                what: "number of harmonics".into(),
+                value: format!("N = {harmonics}"),
+                expected: format!(
+                    "N >= {kf}: model '{}' is forced at {kf}Ω, which fewer harmonics would drop",
+                    model.name()
+                ),
+            });
+        }
         let nsig = model.signals().len();
         for s in model.signals() {
             if s.terms.iter().any(|&(d, _)| d >= ndof) {

@@ -26,6 +26,8 @@ pub trait AnyModel: Send + Sync {
     fn param_value(&self, i: usize) -> f64;
     /// Set a parameter by name (unknown names and non-finite values are errors).
     fn set_param(&mut self, name: &str, value: f64) -> Result<()>;
+    /// Whether the current values are in the model's domain ([`Model::validate`]).
+    fn validate(&self) -> Result<()>;
     /// Named outputs.
     fn outputs(&self) -> &[Output];
     /// Equations as text.
@@ -103,6 +105,9 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     }
     fn set_param(&mut self, name: &str, value: f64) -> Result<()> {
         self.model.set_param(name, value).map_err(|e| self.named(e))
+    }
+    fn validate(&self) -> Result<()> {
+        self.model.validate()
     }
     fn outputs(&self) -> &[Output] {
         self.model.outputs()

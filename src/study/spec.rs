@@ -215,13 +215,26 @@ pub struct CheckSpec {
     pub expect: Expect,
     /// Output (default: the figure's first panel).
     pub output: Option<String>,
-    /// Frequency band, rad/s (default: the whole range).
+    /// Frequency band, rad/s (default: the whole range): exactly two numbers.
+    #[serde(default, deserialize_with = "two_numbers")]
     pub band: Option<[f64; 2]>,
     /// Relative tolerance: `unchanged` trends (default 0.02), `agree` (0.05), and
     /// `converges` (1e-5: the largest change that counts as converged).
     pub tol: Option<f64>,
     /// For `folds`/`present`: the family value from which folds are claimed.
     pub from_value: Option<f64>,
+}
+
+/// `[lo, hi]` and nothing else (a plain `[f64; 2]` took the first two of three).
+fn two_numbers<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+    let v: Vec<f64> = Vec::deserialize(d)?;
+    match v[..] {
+        [lo, hi] => Ok(Some([lo, hi])),
+        _ => Err(serde::de::Error::custom(format!(
+            "a band is two numbers [lo, hi], not {} number(s)",
+            v.len()
+        ))),
+    }
 }
 
 /// 1-based line and column of byte offset `at` in `text`.
@@ -287,6 +300,16 @@ impl Study {
         self.check_sweep(&self.sweep, None)?;
         self.check_range(&self.frequency, "frequency")?;
         check_outputs(self, base.as_ref(), &self.outputs)?;
+        for name in self.labels.keys() {
+            if !base.outputs().iter().any(|o| *o.name == **name) {
+                let known: Vec<&str> = base.outputs().iter().map(|o| &*o.name).collect();
+                return Err(self.whole(format!(
+                    "labels: '{name}' is not an output of model '{}' (known: {})",
+                    base.name(),
+                    known.join(", ")
+                )));
+            }
+        }
         let mut ids: Vec<&str> = Vec::new();
         for fig in &self.figures {
             let id = fig.id.get_ref();
@@ -345,8 +368,9 @@ impl Study {
                                 ));
                             }
                         } else {
-                            m.clone_box()
-                                .set_param(v.get_ref(), x)
+                            let mut mv = m.clone_box();
+                            mv.set_param(v.get_ref(), x)
+                                .and_then(|_| mv.validate())
                                 .map_err(|e| self.at(v.span(), format!("figure '{id}': {e}")))?;
                         }
                     }
@@ -419,6 +443,11 @@ impl Study {
                 if c.tol.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
                     return Err(self.whole(format!("figure '{id}': check tol must be > 0")));
                 }
+                if c.from_value.is_some_and(|v| !v.is_finite()) {
+                    return Err(self.whole(format!(
+                        "figure '{id}': check from_value must be a finite number"
+                    )));
+                }
                 if c.kind == CheckKind::Timedomain && fig.timedomain.is_none() {
                     return Err(self.whole(format!(
                         "figure '{id}': a 'timedomain' check needs a 'timedomain' table"
@@ -455,10 +484,13 @@ impl Study {
     }
 }
 
-/// Apply overrides, errors pointing at the parameter name.
+/// Apply overrides, errors pointing at the parameter name: an unknown name, a value
+/// that is not finite, or one outside the model's domain (a fractional order outside
+/// [0, 2]), which would otherwise fail only when solved.
 pub(crate) fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Result<()> {
     for (k, &v) in params {
         m.set_param(k.get_ref(), v).map_err(|e| study.at(k.span(), e))?;
+        m.validate().map_err(|e| study.at(k.span(), e))?;
     }
     Ok(())
 }

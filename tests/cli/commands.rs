@@ -176,6 +176,13 @@ fn bad_inputs_fail_with_a_reason() {
         &["harmonics", "0"],
     );
     assert_rejected(&["solve", "quarter-car", "--omega", "8", "--harmonics", "-3"], &["-3"]);
+    // forcing at 2Ω needs two harmonics at least; one would drop it
+    for cmd in [
+        vec!["solve", "two-mass-chain", "--omega", "1", "--harmonics", "1"],
+        vec!["sweep", "two-mass-chain", "--from", "0.5", "--to", "2", "--harmonics", "1"],
+    ] {
+        assert_rejected(&cmd, &["N = 1", "N >= 2", "2Ω", "two-mass-chain"]);
+    }
     assert_rejected(&["solve", "quarter-car", "--omega", "0"], &["omega", "0"]);
     assert_rejected(&["solve", "quarter-car", "--omega", "-2"], &["omega", "-2"]);
     assert_rejected(&["solve", "quarter-car", "--omega", "NaN"], &["omega", "NaN"]);

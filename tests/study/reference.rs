@@ -186,42 +186,43 @@ fn reference_study_runs_and_every_file_parses() {
 
 #[test]
 fn a_study_that_fails_part_way_writes_what_finished() {
-    // p = 2.5 is outside [0, 2]: that curve and its time-domain point fail at solve time
-    // (the study file itself is valid); the p = 0.5 curve must still be written.
+    // A valid file whose parts can fail only when run: with c = 10 the Duffing curves
+    // have no fold at either end of the range of F, so that fold analysis (and the
+    // figure of it alone) fails; the c = 0.1 one must still be written. (A value out of
+    // its domain, p = 2.5 as a fractional order, is refused at validation now.)
     let text = r#"
-model = "quarter-car"
-frequency = { from = 2.0, to = 12.0 }
-outputs = ["z1", "y"]
+model = "duffing"
+harmonics = 1
+frequency = { from = 0.5, to = 3.0 }
 
 [[figure]]
 id = "ok_and_bad"
-vary = "p"
-values = [0.5, 2.5]
+vary = "c"
+values = [0.1, 10.0]
+folds = { param = "F", from = 0.01, to = 0.3 }
 
 [[figure]]
 id = "bad_only"
-params = { p = 2.5 }
+params = { c = 10.0 }
+folds = { param = "F", from = 0.01, to = 0.3 }
 "#;
     let cli = Cli::builtin();
     let s = study::parse(text, "partial.toml").unwrap();
     s.validate(cli.registry()).unwrap();
     let dir = tmp("partial");
     let outcome = study::run(&s, cli.registry(), &dir).unwrap();
-    assert!(dir.join("ok_and_bad_p_0.5.csv").exists());
+    assert!(dir.join("ok_and_bad_c_0.1.csv").exists());
     assert!(dir.join("ok_and_bad.svg").exists());
-    assert!(!dir.join("ok_and_bad_p_2.5.csv").exists());
+    assert!(!dir.join("ok_and_bad_c_10.csv").exists());
     assert!(!dir.join("bad_only.svg").exists());
     assert!(
-        outcome
-            .failures
-            .iter()
-            .any(|f| f.contains("ok_and_bad, p = 2.5") && f.contains("fractional order")),
+        outcome.failures.iter().any(|f| f.contains("ok_and_bad, c = 10") && f.contains("no fold")),
         "{:#?}",
         outcome.failures
     );
     assert!(outcome.failures.iter().any(|f| f.starts_with("bad_only")), "{:#?}", outcome.failures);
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
-    assert!(summary.contains("part(s) failed") && summary.contains("p = 2.5"), "{summary}");
+    assert!(summary.contains("part(s) failed") && summary.contains("c = 10"), "{summary}");
 
     // Through the binary: non-zero exit, one line naming the failure, files written.
     let path = dir.join("partial.toml");
@@ -235,7 +236,7 @@ params = { p = 2.5 }
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.contains("failed"), "{err}");
-    assert!(out2.join("ok_and_bad_p_0.5.csv").exists());
+    assert!(out2.join("ok_and_bad_c_0.1.csv").exists());
     assert!(out2.join("summary.md").exists());
 }
 
@@ -318,4 +319,38 @@ fn fold_figures_are_validated_before_running() {
     assert!(outcome.failures.is_empty(), "{:#?}", outcome.failures);
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(summary.contains("jumps begin at F = 5.158455e-2"), "{summary}");
+}
+
+/// Values that could only fail when run are refused at validation, at their place in
+/// the file: a parameter out of its domain (study-wide or varied), a band of three
+/// numbers, a non-finite from_value, a label for an output the model does not have.
+#[test]
+fn values_that_would_fail_later_are_refused_at_validation() {
+    let cli = Cli::builtin();
+    let head = "model = \"fractional-duffing\"\nfrequency = { from = 0.5, to = 2.0 }\n";
+    for (rest, needles) in [
+        ("params = { p = 3.0 }\n", vec!["study.toml:3:12", "fractional order p", "[0, 2]"]),
+        (
+            "[[figure]]\nid = \"a\"\nvary = \"p\"\nvalues = [0.5, 2.5]\n",
+            vec!["study.toml:5:8", "fractional order p: 2.5"],
+        ),
+        (
+            "[[figure]]\nid = \"a\"\n[[figure.check]]\nkind = \"folds\"\nexpect = \"present\"\nband = [1.0, 2.0, 3.0]\n",
+            vec!["study.toml:8:8", "two numbers", "not 3"],
+        ),
+        (
+            "[[figure]]\nid = \"a\"\n[[figure.check]]\nkind = \"folds\"\nexpect = \"present\"\nfrom_value = nan\n",
+            vec!["from_value", "finite"],
+        ),
+        ("labels = { zz = \"nothing\" }\n", vec!["labels", "'zz'", "known: x"]),
+    ] {
+        let text = format!("{head}{rest}");
+        let e = match study::parse(&text, "study.toml") {
+            Err(e) => e.to_string(),
+            Ok(s) => s.validate(cli.registry()).unwrap_err().to_string(),
+        };
+        for n in needles {
+            assert!(e.contains(n), "{rest}: {e} does not contain {n}");
+        }
+    }
 }
