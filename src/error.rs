@@ -49,8 +49,10 @@ pub enum Error {
     InvalidValue { what: String, value: String, expected: String },
     /// Two-parameter continuation found no fold to start from at either end of the
     /// parameter range.
-    #[error("no fold for Ω in [{omega_from}, {omega_to}] at {parameter} = {from} or at {parameter} = {to}: nothing to continue (widen the frequency or the parameter range)")]
+    #[error("no {what} for Ω in [{omega_from}, {omega_to}] at {parameter} = {from} or at {parameter} = {to}: nothing to continue (widen the frequency or the parameter range)")]
     NoFolds {
+        /// What was looked for: "fold" or "period doubling".
+        what: String,
         /// The parameter's name.
         parameter: String,
         /// The ends of its range.

@@ -21,11 +21,13 @@
 //! with `φ` the identity or, for a parameter range spanning a decade or more of
 //! positive values, the logarithm (so that steps are relative in `P`).
 
+use super::period_two::Subharmonic;
 use crate::balance::{Balance, BilinearWork};
 use crate::continuation::tracer::{dot, no_convergence, stalling};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
+use faer::{Mat, MatMut};
 
 /// How the parameter is represented among the unknowns.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,6 +70,10 @@ pub(crate) struct FoldSystem<'m, M: Model> {
     pub iterations: usize,
     /// Max-norm of the scaled residual and test function before the last step.
     last_residual: f64,
+    /// Which matrix the test function borders.
+    test: TestMatrix<'m, M>,
+    /// Its size: `n`, or the odd coefficients of the period-2 balance.
+    nt: usize,
     /// Borders of the test function (unit vectors, renewed at accepted points).
     b: Vec<f64>,
     c: Vec<f64>,
@@ -84,6 +90,74 @@ pub(crate) struct FoldSystem<'m, M: Model> {
     w: Vec<f64>,
     d_a: Vec<f64>,
     rhs: Vec<f64>,
+}
+
+/// The matrix whose singularity the curve follows.
+pub(crate) enum TestMatrix<'m, M: Model> {
+    /// `∂R/∂a`: folds.
+    Jacobian,
+    /// The odd-harmonic block of the Jacobian of the balance in Ω/2 at the period-1
+    /// solution (a multiplier −1): period doubling.
+    OddBlock(Box<OddBlock<'m, M>>),
+}
+
+/// The period-2 balance of a period-doubling curve and its buffers.
+pub(crate) struct OddBlock<'m, M: Model> {
+    bal: Balance<'m, Subharmonic<M>>,
+    work: BilinearWork,
+    /// Where each period-1 coefficient goes among the period-2 ones.
+    emb: Vec<usize>,
+    /// The odd-harmonic coefficients of the period-2 balance.
+    odd: Vec<usize>,
+    a2: Vec<f64>,
+    r2: Vec<f64>,
+    j2: Mat<f64>,
+    w2: Vec<f64>,
+    v2: Vec<f64>,
+    d_a2: Vec<f64>,
+}
+
+impl<'m, M: Model> OddBlock<'m, M> {
+    /// For a period-1 balance of `n1` harmonics with `ndof` DOFs: the balance of `sub`
+    /// in `2 n1` harmonics of Ω/2 (so that every period-1 harmonic has its place).
+    pub fn new(sub: &'m Subharmonic<M>, ndof: usize, n1: usize) -> crate::error::Result<Self> {
+        let n2 = 2 * n1;
+        let bal = Balance::new(sub, n2)?;
+        let len = bal.len();
+        let (l1, l2) = (2 * n1 + 1, 2 * n2 + 1);
+        let mut emb = Vec::with_capacity(ndof * l1);
+        for d in 0..ndof {
+            emb.push(d * l2);
+            emb.extend((1..=n1).map(|k| d * l2 + 2 * k));
+            emb.extend((1..=n1).map(|k| d * l2 + n2 + 2 * k));
+        }
+        let odd: Vec<usize> = (0..len)
+            .filter(|i| {
+                let k = i % l2;
+                let h = if k <= n2 { k } else { k - n2 };
+                h % 2 == 1
+            })
+            .collect();
+        Ok(OddBlock {
+            work: BilinearWork::new(&bal),
+            bal,
+            emb,
+            odd,
+            a2: vec![0.0; len],
+            r2: vec![0.0; len],
+            j2: Mat::zeros(len, len),
+            w2: vec![0.0; len],
+            v2: vec![0.0; len],
+            d_a2: vec![0.0; len],
+        })
+    }
+
+    fn embed(&mut self, a: &[f64]) {
+        self.a2.fill(0.0);
+        for (&i, &x) in self.emb.iter().zip(a) {
+            self.a2[i] = x;
+        }
+    }
 }
 
 /// Scaled residuals at rounding level (see [`FoldSystem::correct`]).
@@ -111,6 +185,8 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             tol,
             iterations: 0,
             last_residual: f64::INFINITY,
+            test: TestMatrix::Jacobian,
+            nt: n,
             b: e.clone(),
             c: e,
             lu_m: DenseLu::new(n + 1),
@@ -124,6 +200,56 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             w: vec![0.0; n],
             d_a: vec![0.0; n],
             rhs: vec![0.0; n + 2],
+        }
+    }
+
+    /// The system of a period-doubling curve: the odd block of `odd` bordered
+    /// instead of the Jacobian.
+    pub fn period_doubling(mut self, odd: OddBlock<'m, M>) -> Self {
+        let nt = odd.odd.len();
+        let mut e = vec![0.0; nt];
+        e[nt / 2] = 1.0;
+        self.nt = nt;
+        self.b = e.clone();
+        self.c = e;
+        self.lu_m = DenseLu::new(nt + 1);
+        self.v = vec![0.0; nt];
+        self.w = vec![0.0; nt];
+        self.test = TestMatrix::OddBlock(Box::new(odd));
+        self
+    }
+
+    /// The scaled test matrix at the point in `self.a` and `(Ω, P)` into `out`
+    /// (`nt × nt`), and the scaled Jacobian (and residual `self.r`) into the top-left
+    /// block of `lu_k`.
+    fn fill_test(&mut self, omega: f64, p: f64, mut out: MatMut<'_, f64>) {
+        let n = self.n;
+        let cs = self.sa / self.sr;
+        let mut kk = self.lu_k.matrix_mut();
+        self.bal.jacobian(&self.a, omega, &mut self.r, kk.rb_mut().submatrix_mut(0, 0, n, n));
+        for j in 0..n {
+            for i in 0..n {
+                kk[(i, j)] *= cs;
+            }
+        }
+        match &mut self.test {
+            TestMatrix::Jacobian => {
+                for j in 0..n {
+                    for i in 0..n {
+                        out[(i, j)] = kk[(i, j)];
+                    }
+                }
+            }
+            TestMatrix::OddBlock(ob) => {
+                ob.embed(&self.a);
+                ob.bal.set_param(self.param, p);
+                ob.bal.jacobian(&ob.a2, 0.5 * omega, &mut ob.r2, ob.j2.as_mut());
+                for (j, &oj) in ob.odd.iter().enumerate() {
+                    for (i, &oi) in ob.odd.iter().enumerate() {
+                        out[(i, j)] = cs * ob.j2[(oi, oj)];
+                    }
+                }
+            }
         }
     }
 
@@ -177,42 +303,74 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         Ok((omega, p))
     }
 
-    /// Fill the bordered test-function matrix with the scaled Jacobian at the point
-    /// in `self.a` (also left, unfactored, in the top-left block of `lu_k`); solve
-    /// for `v`, `w` and return `g`.
-    fn test_function(&mut self, omega: f64) -> Result<f64, String> {
-        let n = self.n;
-        let cs = self.sa / self.sr;
+    /// Fill the bordered test-function matrix at the point in `self.a` (the scaled
+    /// Jacobian also into the top-left block of `lu_k`); solve for `v`, `w` and return
+    /// `g`.
+    fn test_function(&mut self, omega: f64, p: f64) -> Result<f64, String> {
+        let nt = self.nt;
+        let mut lu_m = std::mem::replace(&mut self.lu_m, DenseLu::new(0));
         {
-            let mut km = self.lu_m.matrix_mut();
-            self.bal.jacobian(&self.a, omega, &mut self.r, km.rb_mut().submatrix_mut(0, 0, n, n));
-            let mut kk = self.lu_k.matrix_mut();
-            for j in 0..n {
-                for i in 0..n {
-                    km[(i, j)] *= cs;
-                    kk[(i, j)] = km[(i, j)];
-                }
+            let mut km = lu_m.matrix_mut();
+            self.fill_test(omega, p, km.rb_mut().submatrix_mut(0, 0, nt, nt));
+            for i in 0..nt {
+                km[(i, nt)] = self.b[i];
+                km[(nt, i)] = self.c[i];
             }
-            for i in 0..n {
-                km[(i, n)] = self.b[i];
-                km[(n, i)] = self.c[i];
-            }
-            km[(n, n)] = 0.0;
+            km[(nt, nt)] = 0.0;
         }
-        let pivots = self.lu_m.factor();
+        let pivots = lu_m.factor();
+        let mut x = vec![0.0; nt + 1];
+        x[nt] = 1.0;
+        lu_m.solve(&mut x);
+        let g = x[nt];
+        self.v.copy_from_slice(&x[..nt]);
+        x.fill(0.0);
+        x[nt] = 1.0;
+        lu_m.solve_transpose(&mut x);
+        self.w.copy_from_slice(&x[..nt]);
+        self.lu_m = lu_m;
         if pivots.is_nan() || pivots <= 1e-15 {
             return Err(format!("singular bordered test function at Ω = {omega:.6}"));
         }
-        let mut x = vec![0.0; n + 1];
-        x[n] = 1.0;
-        self.lu_m.solve(&mut x);
-        let g = x[n];
-        self.v.copy_from_slice(&x[..n]);
-        x.fill(0.0);
-        x[n] = 1.0;
-        self.lu_m.solve_transpose(&mut x);
-        self.w.copy_from_slice(&x[..n]);
         Ok(g)
+    }
+
+    /// `∂ψ/∂a` into `self.d_a` and `(∂ψ/∂Ω, ∂ψ/∂P)` for `ψ = wᵀ A v`, `A` the test
+    /// matrix (unscaled).
+    fn psi_gradient(&mut self, omega: f64) -> (f64, f64) {
+        match &mut self.test {
+            TestMatrix::Jacobian => self.bal.bilinear_gradient(
+                &self.a,
+                omega,
+                &self.w,
+                &self.v,
+                Some(self.param),
+                &mut self.work,
+                &mut self.d_a,
+            ),
+            TestMatrix::OddBlock(ob) => {
+                ob.w2.fill(0.0);
+                ob.v2.fill(0.0);
+                for (k, &o) in ob.odd.iter().enumerate() {
+                    ob.w2[o] = self.w[k];
+                    ob.v2[o] = self.v[k];
+                }
+                let (po, pp) = ob.bal.bilinear_gradient(
+                    &ob.a2,
+                    0.5 * omega,
+                    &ob.w2,
+                    &ob.v2,
+                    Some(self.param),
+                    &mut ob.work,
+                    &mut ob.d_a2,
+                );
+                // a2 = E a, the period-2 balance at Ω/2
+                for (d, &e) in self.d_a.iter_mut().zip(&ob.emb) {
+                    *d = ob.d_a2[e];
+                }
+                (0.5 * po, pp)
+            }
+        }
     }
 
     /// One Newton step of the extended system at `y` (updated in place) with the
@@ -226,18 +384,10 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         let n = self.n;
         self.iterations += 1;
         let (omega, p) = self.unscale(y)?;
-        let g = self.test_function(omega)?;
+        let g = self.test_function(omega, p)?;
         self.bal.d_omega(&self.a, omega, &mut self.d_omega);
         self.bal.d_param(&self.a, omega, self.param, &mut self.d_param);
-        let (psi_o, psi_p) = self.bal.bilinear_gradient(
-            &self.a,
-            omega,
-            &self.w,
-            &self.v,
-            Some(self.param),
-            &mut self.work,
-            &mut self.d_a,
-        );
+        let (psi_o, psi_p) = self.psi_gradient(omega);
         // ψ was of the raw Jacobian; g belongs to the scaled one: -(s_a/s_r) ψ_z,
         // then by the chain rule into the scaled unknowns.
         let cs = self.sa / self.sr;
@@ -323,42 +473,34 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         let nv = dot(&self.v, &self.v).sqrt();
         let nw = dot(&self.w, &self.w).sqrt();
         if nv > 0.0 && nw > 0.0 && nv.is_finite() && nw.is_finite() {
-            for i in 0..self.n {
+            for i in 0..self.nt {
                 self.c[i] = self.v[i] / nv;
                 self.b[i] = self.w[i] / nw;
             }
         }
     }
 
-    /// Borders for a start point `(a, Ω, P)` near a fold: the right and left null
-    /// vectors of the scaled Jacobian by two steps of inverse iteration.
+    /// Borders for a start point `(a, Ω, P)` near a fold (or a period doubling): the
+    /// right and left null vectors of the scaled test matrix by two steps of inverse
+    /// iteration.
     pub fn init_borders(&mut self, a: &[f64], omega: f64, p: f64) -> Result<(), String> {
-        let n = self.n;
+        let nt = self.nt;
         self.bal.set_param(self.param, p);
         self.a.copy_from_slice(a);
-        let cs = self.sa / self.sr;
-        let mut lu = DenseLu::new(n);
-        {
-            let mut k = lu.matrix_mut();
-            self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut());
-            for j in 0..n {
-                for i in 0..n {
-                    k[(i, j)] *= cs;
-                }
-            }
-        }
+        let mut lu = DenseLu::new(nt);
+        self.fill_test(omega, p, lu.matrix_mut());
         if lu.factor().is_nan() {
-            return Err(format!("non-finite Jacobian at the fold at Ω = {omega:.6}"));
+            return Err(format!("non-finite Jacobian at the start at Ω = {omega:.6}"));
         }
-        let mut v = vec![1.0; n];
-        let mut w = vec![1.0; n];
+        let mut v = vec![1.0; nt];
+        let mut w = vec![1.0; nt];
         for _ in 0..2 {
             lu.solve(&mut v);
             lu.solve_transpose(&mut w);
             for x in [&mut v, &mut w] {
                 let norm = dot(x, x).sqrt();
                 if !(norm.is_finite() && norm > 0.0) {
-                    return Err(format!("no null vector at the fold at Ω = {omega:.6}"));
+                    return Err(format!("no null vector at the start at Ω = {omega:.6}"));
                 }
                 x.iter_mut().for_each(|e| *e /= norm);
             }

@@ -36,7 +36,7 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::results::PointOutput;
 use fold_curve::{FoldCurveTracer, Step};
-use fold_system::{FoldSystem, ParamScale};
+use fold_system::{FoldSystem, OddBlock, ParamScale};
 
 /// One point of a fold curve: a fold of the amplitude–frequency curve at `value`.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,6 +61,9 @@ pub enum TurnKind {
     /// An isola point: a fold of the curve meets a fold of a detached branch where
     /// the two join (the projection passes smoothly, Ω does not turn).
     Isola,
+    /// A turning point of the parameter on a period-doubling curve (the extreme
+    /// value at which the period-1 solution doubles its period in the range).
+    Turn,
 }
 
 impl std::fmt::Display for TurnKind {
@@ -68,6 +71,7 @@ impl std::fmt::Display for TurnKind {
         f.write_str(match self {
             TurnKind::Cusp => "cusp",
             TurnKind::Isola => "isola",
+            TurnKind::Turn => "turning point",
         })
     }
 }
@@ -154,6 +158,8 @@ pub struct FoldCurve {
 /// The fold curves of a model in the (Ω, parameter) plane and their cusps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FoldCurves {
+    /// What the curves follow.
+    pub boundary: Boundary,
     /// The model's name (set by the caller that knows it, e.g. the command line).
     pub model: String,
     /// Number of harmonics N.
@@ -200,9 +206,66 @@ pub enum FoldEvent {
     CurveEnd(usize),
 }
 
+/// What a two-parameter curve follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Boundary {
+    /// Folds of the amplitude–frequency curve (jumps).
+    #[default]
+    Fold,
+    /// Period-doubling points of it (a Floquet multiplier −1), found by the period-1
+    /// sweeps' stability analysis at the ends of the range.
+    PeriodDoubling,
+}
+
+impl std::fmt::Display for Boundary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Boundary::Fold => "fold",
+            Boundary::PeriodDoubling => "period doubling",
+        })
+    }
+}
+
+/// A point to start a curve at: a located fold, or a located period doubling solved
+/// for its coefficients from the nearest point of the curve.
+fn start_points<M: Model>(
+    model: &M,
+    curve: &crate::results::Curve,
+    boundary: Boundary,
+    harmonics: usize,
+) -> Vec<crate::results::Fold> {
+    match boundary {
+        Boundary::Fold => curve.folds.iter().filter(|f| f.located).cloned().collect(),
+        Boundary::PeriodDoubling => {
+            let so = crate::corrector::SolveOptions { harmonics, ..Default::default() };
+            curve
+                .bifurcations
+                .iter()
+                .filter(|b| b.kind == crate::results::BifurcationKind::PeriodDoubling && b.located)
+                .filter_map(|b| {
+                    let near = curve.points.get(b.after)?;
+                    let sol =
+                        crate::corrector::solve(model, b.omega, &so, Some(&near.coeffs)).ok()?;
+                    Some(crate::results::Fold {
+                        omega: b.omega,
+                        param: b.param,
+                        coeffs: sol.coeffs,
+                        outputs: b.outputs.clone(),
+                        after: b.after,
+                        located: true,
+                    })
+                })
+                .collect()
+        }
+    }
+}
+
 /// Options of [`fold_curves`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct FoldCurveOptions {
+    /// What the curves follow: folds (default) or period doubling.
+    pub boundary: Boundary,
     /// Harmonics, tolerances and step control, of the sweeps that find the folds to
     /// start from and of the fold curves (the sweeps skip their stability analysis:
     /// folds do not depend on it).
@@ -213,7 +276,11 @@ pub struct FoldCurveOptions {
 
 impl Default for FoldCurveOptions {
     fn default() -> Self {
-        FoldCurveOptions { sweep: SweepOptions::default(), omega: (1.0, 100.0) }
+        FoldCurveOptions {
+            boundary: Boundary::Fold,
+            sweep: SweepOptions::default(),
+            omega: (1.0, 100.0),
+        }
     }
 }
 
@@ -277,10 +344,15 @@ pub fn fold_curves_with<M: Model + Clone>(
         m.validate()?;
     }
     let mut sweep_opts = opts.sweep.clone();
-    sweep_opts.stability = None;
     sweep_opts.convergence = None;
+    sweep_opts.stability = match opts.boundary {
+        // folds do not depend on stability; period doubling is a change of it
+        Boundary::Fold => None,
+        Boundary::PeriodDoubling => Some(sweep_opts.stability.unwrap_or_default()),
+    };
     let scale = if lo > 0.0 && hi / lo >= 10.0 { ParamScale::Log } else { ParamScale::Linear };
     let mut res = FoldCurves {
+        boundary: opts.boundary,
         model: model.name().to_string(),
         harmonics: sweep_opts.harmonics,
         param,
@@ -300,7 +372,7 @@ pub fn fold_curves_with<M: Model + Clone>(
         let mut m = model.clone();
         m.set_param_value(param, v);
         let curve = sweep(&m, w0, w1, &sweep_opts)?;
-        let folds: Vec<_> = curve.folds.into_iter().filter(|f| f.located).collect();
+        let folds = start_points(&m, &curve, opts.boundary, sweep_opts.harmonics);
         match end {
             RangeEnd::From => res.start_folds.0 = folds.len(),
             RangeEnd::To => res.start_folds.1 = folds.len(),
@@ -311,8 +383,17 @@ pub fn fold_curves_with<M: Model + Clone>(
         starts.extend(folds.into_iter().enumerate().map(|(k, f)| (end, v, k, f)));
     }
     if starts.is_empty() {
-        return Err(Error::NoFolds { parameter: name, from, to, omega_from: w0, omega_to: w1 });
+        return Err(Error::NoFolds {
+            what: opts.boundary.to_string(),
+            parameter: name,
+            from,
+            to,
+            omega_from: w0,
+            omega_to: w1,
+        });
     }
+    let sub = Subharmonic(model.clone());
+    let ndof = model.dofs().len();
     let mut stopped = false;
     for (end, v, start_fold, fold) in starts {
         if stopped {
@@ -325,6 +406,9 @@ pub fn fold_curves_with<M: Model + Clone>(
         m.set_param_value(param, v);
         let bal = Balance::new(model, sweep_opts.harmonics)?;
         let mut sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
+        if opts.boundary == Boundary::PeriodDoubling {
+            sys = sys.period_doubling(OddBlock::new(&sub, ndof, sweep_opts.harmonics)?);
+        }
         sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
         sys.so = w1 - w0;
         sys.sp = (scale.forward(hi) - scale.forward(lo)).abs();
@@ -370,6 +454,9 @@ pub fn fold_curves_with<M: Model + Clone>(
                     res.curves[ci].points.push(tracer.points[k].clone());
                     if let Some(mut c) = cusp {
                         c.curve = ci;
+                        if opts.boundary == Boundary::PeriodDoubling {
+                            c.kind = TurnKind::Turn;
+                        }
                         res.cusps.push(c);
                         control = observer(&FoldEvent::Cusp(res.cusps.len() - 1), &res);
                         if control == Control::Stop {

@@ -111,14 +111,15 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             );
             write_curve(&curve, &name, &title, &args, None, out)
         }
-        Command::Folds { name, param, from, to, omega_from, omega_to, curve: args } => {
+        Command::Folds { name, param, from, to, omega_from, omega_to, boundary, curve: args } => {
             distinct_outputs(&args)?;
             let model = configured(reg, &name, &args.set)?;
             let pb = progress::spinner(&format!(
                 "fold curves of {name} for {param} from {from} to {to}"
             ));
             let settings = args.cont.settings(args.harmonics);
-            let range = FoldRange { param: &param, from, to, omega: (omega_from, omega_to) };
+            let range =
+                FoldRange { param: &param, from, to, omega: (omega_from, omega_to), boundary };
             let mut watch = |e: &FoldEvent, f: &FoldCurves| {
                 pb.set_message(progress::fold_message(&name, e, f));
                 Control::Continue
@@ -204,8 +205,8 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
         emit_json(&report::folds_json(f), target, out)?;
     } else {
         w(out, format_args!(
-            "{}: {} fold curve(s) for {} in [{}, {}], Ω in [{}, {}] rad/s, N = {} ({} and {} folds at the two ends)\n",
-            f.model, f.curves.len(), f.parameter, f.range.0, f.range.1, f.omega.0, f.omega.1,
+            "{}: {} {} curve(s) for {} in [{}, {}], Ω in [{}, {}] rad/s, N = {} ({} and {} at the two ends)\n",
+            f.model, f.curves.len(), f.boundary, f.parameter, f.range.0, f.range.1, f.omega.0, f.omega.1,
             f.harmonics, f.start_folds.0, f.start_folds.1
         ))?;
         for (i, c) in f.curves.iter().enumerate() {

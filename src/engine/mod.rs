@@ -5,7 +5,7 @@
 //! and the command line. Nothing here imports either.
 
 use crate::balance::Balance;
-use crate::bifurcation::{self, FoldCurveOptions, FoldCurves, FoldEvent};
+use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
 use crate::continuation::{self, Observer};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
@@ -208,6 +208,8 @@ pub struct FoldRange<'a> {
     pub to: f64,
     /// The frequency range, rad/s.
     pub omega: (f64, f64),
+    /// What the curves follow (folds, or period doubling).
+    pub boundary: Boundary,
 }
 
 /// The fold curves of `model` in the (Ω, parameter) plane and their cusps, watched
@@ -219,11 +221,11 @@ pub fn fold_curves<M: Model + Clone>(
     s: &SweepSettings,
     observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> continuation::Control,
 ) -> Result<FoldCurves> {
-    let FoldRange { param, from, to, omega } = *r;
+    let FoldRange { param, from, to, omega, boundary } = *r;
     check_omega("--omega-from", omega.0)?;
     check_omega("--omega-to", omega.1)?;
     let index = model.param_index(param)?;
-    let opts = FoldCurveOptions { sweep: s.options().map_err(|e| e.cli())?, omega };
+    let opts = FoldCurveOptions { boundary, sweep: s.options().map_err(|e| e.cli())?, omega };
     let mut res = bifurcation::fold_curves_with(model, index, from, to, &opts, observer)?;
     res.model = name.to_string();
     Ok(res)

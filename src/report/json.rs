@@ -118,7 +118,8 @@ pub fn simulate_json(r: &SimRecord) -> Value {
 /// The JSON of `folds` (CONTRACT section 3): `{model, harmonics, parameter, curves:
 /// [{points: [{omega, value, outputs: {name: {max_abs}}}], ended}], cusps: [{omega,
 /// value, outputs}]}`, then the extensions `range`, `omega_range`, `start_folds`
-/// (folds found by the sweeps at the two ends of the range) and `stats`; each curve
+/// (folds found by the sweeps at the two ends of the range), `boundary` (`"fold"` or
+/// `"period doubling"`: what the curves follow) and `stats`; each curve
 /// adds `start` (`"from"` or `"to"`: the end its first fold was found at), each cusp
 /// `kind` (`"cusp"`, or `"isola"` where a detached branch joins), `curve` (its
 /// index) and `located`.
@@ -153,6 +154,7 @@ pub fn folds_json(f: &FoldCurves) -> Value {
         "curves": curves, "cusps": cusps,
         "range": [f.range.0, f.range.1], "omega_range": [f.omega.0, f.omega.1],
         "start_folds": [f.start_folds.0, f.start_folds.1],
+        "boundary": f.boundary.to_string(),
         "stats": { "iterations": f.iterations, "steps": f.steps.0, "rejected_steps": f.steps.1 },
     })
 }

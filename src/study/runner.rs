@@ -240,7 +240,13 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
                 Job::Folds(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
                     let (param, from, to) = p.folds.clone().unwrap_or_default();
-                    let range = FoldRange { param: &param, from, to, omega: p.range };
+                    let range = FoldRange {
+                        param: &param,
+                        from,
+                        to,
+                        omega: p.range,
+                        boundary: crate::bifurcation::Boundary::Fold,
+                    };
                     let label = format!("{}: fold curves, {}", p.id, c.label);
                     let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
                         pb.set_message(progress::fold_message(&label, e, fc));

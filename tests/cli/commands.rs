@@ -545,3 +545,65 @@ fn sweep_period_two_switches_at_the_period_doubling() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("no period doubling"), "{}", stderr(&o));
 }
+
+/// `folds --boundary period-doubling`: curves of period doubling, each point a
+/// period-doubling point of an ordinary sweep at that parameter value.
+#[test]
+fn folds_follow_period_doubling_on_request() {
+    let o = ihbm(&[
+        "folds",
+        "quadratic",
+        "--param",
+        "F",
+        "--from",
+        "0.3",
+        "--to",
+        "0.6",
+        "--omega-from",
+        "1.5",
+        "--omega-to",
+        "2.6",
+        "--boundary",
+        "period-doubling",
+        "--harmonics",
+        "4",
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["boundary"], "period doubling");
+    let curve =
+        v["curves"].as_array().unwrap().iter().find(|c| c["ended"] == "reached end").unwrap();
+    let pts = curve["points"].as_array().unwrap();
+    let p = &pts[pts.len() / 2];
+    let (omega, f) = (p["omega"].as_f64().unwrap(), p["value"].as_f64().unwrap());
+    let set = format!("F={f}");
+    let o = ihbm(&[
+        "sweep",
+        "quadratic",
+        "--from",
+        "1.5",
+        "--to",
+        "2.6",
+        "--harmonics",
+        "4",
+        "--set",
+        &set,
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let nearest = s["bifurcations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["kind"] == "period-doubling")
+        .map(|b| (b["omega"].as_f64().unwrap() - omega).abs() / omega)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        nearest < 1e-7,
+        "F = {f}: no period doubling of the sweep near Ω = {omega} ({nearest:e})"
+    );
+}

@@ -83,7 +83,12 @@ const MODEL: Mathieu = Mathieu { m: 1.0, c: 0.05, k: 1.0, eps: 0.4, f: 0.1 };
 
 /// Monodromy matrix of the homogeneous equation by RK4: (trace, determinant).
 fn monodromy(w: f64) -> (f64, f64) {
-    let Mathieu { m, c, k, eps, .. } = MODEL;
+    monodromy_at(w, MODEL.eps)
+}
+
+/// [`monodromy`] for another parametric amplitude `eps`.
+fn monodromy_at(w: f64, eps: f64) -> (f64, f64) {
+    let Mathieu { m, c, k, .. } = MODEL;
     let rhs =
         |t: f64, y: [f64; 2]| [y[1], -(c * y[1] + k * (1.0 + eps * (w * t).cos()) * y[0]) / m];
     let steps = 4000;
@@ -215,4 +220,55 @@ fn tracking_agrees_with_the_full_analysis_through_the_tongue() {
     let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
     let k = stability_common::compare(&MODEL, &curve, 6);
     eprintln!("mathieu: {} points, {k:?}", curve.points.len());
+}
+
+/// The period-doubling boundary continued in (Ω, ε) is the tongue's edge: at points
+/// of each curve, the monodromy matrix at that ε has a multiplier −1 at that Ω (the
+/// edge found by bisection on `1 + tr + det`), to 1e-8.
+#[test]
+fn period_doubling_curves_are_the_tongue_edges_of_the_monodromy() {
+    use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
+    let mut opts =
+        FoldCurveOptions { boundary: Boundary::PeriodDoubling, ..FoldCurveOptions::default() };
+    opts.sweep.harmonics = 12;
+    opts.omega = (1.5, 2.6);
+    let eps = MODEL.param_index("eps").unwrap();
+    let res = fold_curves(&MODEL, eps, 0.3, 0.6, &opts).unwrap();
+    assert_eq!(res.start_folds, (2, 2), "two edges at both ends");
+    assert_eq!(
+        res.curves.len(),
+        2,
+        "{:?}",
+        res.curves.iter().map(|c| &c.ended).collect::<Vec<_>>()
+    );
+    let edge = |w: f64, e: f64| {
+        let g = |w: f64| {
+            let (tr, det) = monodromy_at(w, e);
+            1.0 + tr + det
+        };
+        let (mut a, mut b) = (w - 2e-3, w + 2e-3);
+        assert!(g(a) * g(b) < 0.0, "no edge near Ω = {w} at ε = {e}");
+        for _ in 0..60 {
+            let mid = 0.5 * (a + b);
+            if g(mid).signum() == g(a).signum() {
+                a = mid;
+            } else {
+                b = mid;
+            }
+        }
+        0.5 * (a + b)
+    };
+    for c in &res.curves {
+        assert_eq!(c.ended.to_string(), "reached end");
+        let n = c.points.len();
+        for p in [&c.points[n / 4], &c.points[n / 2], &c.points[3 * n / 4]] {
+            let e = edge(p.omega, p.value);
+            assert!(
+                (p.omega - e).abs() < 1e-8 * e,
+                "ε = {}: Ω = {} vs monodromy {e}",
+                p.value,
+                p.omega
+            );
+        }
+    }
 }
