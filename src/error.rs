@@ -72,6 +72,14 @@ pub enum Error {
         /// See `from`.
         to: f64,
     },
+    /// A symmetry-breaking sweep found no branch point on the curve to switch at.
+    #[error("no branch point on the curve for Ω in [{from}, {to}]: no symmetry-breaking branch to switch onto")]
+    NoBranchPoint {
+        /// The frequency range swept.
+        from: f64,
+        /// See `from`.
+        to: f64,
+    },
     /// Newton did not converge; the last iterate is kept.
     #[error("Newton did not converge at omega = {omega} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept")]
     NotConverged {

@@ -28,7 +28,9 @@ mod fold_curve;
 mod fold_system;
 mod period_two;
 
-pub use period_two::{embed, period_two, PeriodDoubled, Subharmonic};
+pub use period_two::{
+    break_symmetry, embed, period_two, PeriodDoubled, Subharmonic, SymmetryBroken,
+};
 
 use crate::balance::Balance;
 use crate::continuation::{sweep, Control, SweepOptions};

@@ -80,6 +80,10 @@ impl<M: Model> Model for Subharmonic<M> {
     }
 }
 
+/// The largest even-harmonic content (relative to the odd) of a solution counted as
+/// symmetric.
+const SYMMETRIC: f64 = 1e-4;
+
 /// Relative size of the first step off the period-1 solution along the critical
 /// direction (of the largest coefficient of that solution).
 const SWITCH_STEP: f64 = 1e-3;
@@ -176,6 +180,70 @@ pub fn embed(a: &[f64], ndof: usize, n1: usize, n2: usize) -> Vec<f64> {
     out
 }
 
+/// A curve and the branch switched onto where it breaks a symmetry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymmetryBroken {
+    /// The symmetric curve (odd harmonics only), with its stability.
+    pub symmetric: Curve,
+    /// The branch with even harmonics (a mean and 2Ω, 4Ω, ... components), traced from
+    /// the branch point.
+    pub broken: Curve,
+    /// The forcing frequency of the branch point it was switched onto at.
+    pub switched_at: f64,
+}
+
+/// The branch that leaves the curve of a symmetric model (odd in its DOFs, forced at
+/// odd harmonics: its response has odd harmonics only) at its first located
+/// branch point, where a real Floquet multiplier +1 lets even harmonics in without a
+/// fold. The direction is the null vector of the Jacobian's even-harmonic block
+/// (which the symmetry keeps apart from the odd one).
+///
+/// Errors for bad input, when the curve has no located branch point in the range
+/// ([`Error::NoBranchPoint`]), and when the solution there is not symmetric.
+pub fn break_symmetry<M: Model + Clone>(
+    model: &M,
+    from: f64,
+    to: f64,
+    opts: &SweepOptions,
+) -> Result<SymmetryBroken> {
+    let mut o = opts.clone();
+    o.convergence = None;
+    if o.stability.is_none() {
+        o.stability = Some(Default::default());
+    }
+    let curve = continuation::sweep(model, from, to, &o)?;
+    let Some(bp) =
+        curve.bifurcations.iter().find(|b| b.kind == BifurcationKind::BranchPoint && b.located)
+    else {
+        return Err(Error::NoBranchPoint { from, to });
+    };
+    let n = opts.harmonics;
+    let so = SolveOptions { harmonics: n, ..Default::default() };
+    let near = &curve.points[bp.after];
+    let a = corrector::solve(model, bp.omega, &so, Some(&near.coeffs))?.coeffs;
+    let ndof = model.dofs().len();
+    let even: Vec<bool> = odd_harmonics(ndof, n).into_iter().map(|o| !o).collect();
+    let size = |mask: bool| {
+        a.iter().zip(&even).filter(|(_, &e)| e == mask).fold(0.0f64, |m, (x, _)| m.max(x.abs()))
+    };
+    // Near the branch point the even block is nearly singular and amplifies rounding
+    // in the even harmonics (measured 1e-7 of the odd ones at N = 16); a solution
+    // that broke the symmetry would have them of order one.
+    if size(true) > SYMMETRIC * size(false) {
+        return Err(Error::Other(format!(
+            "the branch point at Ω = {} is not on a symmetric solution (its even harmonics are {:.1e} of the odd ones): nothing to break",
+            bp.omega,
+            size(true) / size(false)
+        )));
+    }
+    let a: Vec<f64> = a.iter().zip(&even).map(|(&x, &e)| if e { 0.0 } else { x }).collect();
+    let v = critical_direction(model, n, &a, bp.omega, &even)?;
+    let broken =
+        continuation::sweep_branch(model, from, to, opts, &a, bp.omega, &v, &even, SWITCH_STEP)?;
+    let switched_at = bp.omega;
+    Ok(SymmetryBroken { symmetric: curve, broken, switched_at })
+}
+
 /// Which coefficients (`ndof` blocks of `2n + 1`) belong to odd harmonics.
 fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
     let l = 2 * n + 1;
@@ -188,9 +256,10 @@ fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
         .collect()
 }
 
-/// The null vector of the odd-harmonic block of the Jacobian at the period-1
-/// solution `a` (harmonics of `w = Ω/2`): two steps of inverse iteration from a vector
-/// in the odd harmonics, which the Jacobian keeps apart from the even ones.
+/// The null vector of the block of the Jacobian at `a` (harmonics of `w`) on the
+/// coefficients `odd` marks: inverse iteration from a vector in them, which the
+/// Jacobian keeps apart from the others (the odd harmonics of Ω/2 at a period-1
+/// solution; the even harmonics of Ω at a symmetric one).
 fn critical_direction<M: Model>(
     sub: &M,
     n2: usize,
@@ -205,22 +274,16 @@ fn critical_direction<M: Model>(
     let mut r = vec![0.0; len];
     bal.jacobian(a, w, &mut r, lu.matrix_mut().rb_mut());
     if lu.factor().is_nan() {
-        return Err(Error::Other(format!(
-            "non-finite Jacobian at the period doubling at Ω = {}",
-            2.0 * w
-        )));
+        return Err(Error::Other(format!("non-finite Jacobian at the branch at ω = {w}")));
     }
     let mut v: Vec<f64> = odd.iter().map(|&o| if o { 1.0 } else { 0.0 }).collect();
     for _ in 0..3 {
         lu.solve(&mut v);
-        // rounding aside the even components stay zero: keep them so
+        // rounding aside the other components stay zero: keep them so
         v.iter_mut().zip(odd).filter(|(_, &o)| !o).for_each(|(x, _)| *x = 0.0);
         let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         if !(norm.is_finite() && norm > 0.0) {
-            return Err(Error::Other(format!(
-                "no critical direction at the period doubling at Ω = {}",
-                2.0 * w
-            )));
+            return Err(Error::Other(format!("no critical direction at the branch at ω = {w}")));
         }
         v.iter_mut().for_each(|x| *x /= norm);
     }

@@ -59,6 +59,10 @@ pub enum Command {
         /// harmonics of Ω/2).
         #[arg(long, value_name = "1|2", default_value_t = 1)]
         period: u32,
+        /// The branch with even harmonics (a mean, 2Ω, ...) of a symmetric model,
+        /// switched onto at the first symmetry-breaking branch point of the curve.
+        #[arg(long, conflicts_with = "period")]
+        break_symmetry: bool,
         /// Harmonics, overrides, output files and continuation settings.
         #[command(flatten)]
         curve: CurveArgs,
@@ -246,9 +250,11 @@ Examples:
   ihbm sweep duffing --from 0.5 --to 3 --max-step 0.02 --amplitude-bound abs:5 --no-stability
   ihbm sweep quarter-car --from 1 --to 80 --converge=1e-4 --json -
   ihbm sweep quadratic --from 1.5 --to 2.6 --period 2 --harmonics 8 --plot p2.svg
+  ihbm sweep duffing --from 0.2 --to 4 --set F=2 --set c=0.05 --break-symmetry --harmonics 6
 
 JSON: {model, harmonics, points, folds, jumps, segments, parameter, stats,
-bifurcations, convergence (only with --converge), period (only with --period 2)}.
+bifurcations, convergence (only with --converge), period (only with --period 2),
+branch (\"symmetry-breaking\", only with --break-symmetry)}.
 Frequencies in rad/s (with --period 2 still the forcing frequency).";
 
 const FOLDS_AFTER_HELP: &str = "\

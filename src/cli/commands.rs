@@ -63,7 +63,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, period, curve: args } => {
+        Command::Sweep { name, from, to, period, break_symmetry, curve: args } => {
             distinct_outputs(&args)?;
             if !(1..=2).contains(&period) {
                 return Err(Failure::usage(format!(
@@ -82,8 +82,20 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                     both.period_one.harmonics, both.period_two.harmonics
                 );
                 let (l1, l2) = (format!("{name} (period 1)"), format!("{name} (period 2)"));
-                let parent = Some((l1.as_str(), &both.period_one));
+                let parent = Some((l1.as_str(), &both.period_one, Branch::PeriodTwo));
                 return write_curve(&both.period_two, &l2, &title, &args, parent, out);
+            }
+            if break_symmetry {
+                let both = model.sweep_break_symmetry(from, to, &settings);
+                pb.finish_and_clear();
+                let both = both.map_err(Failure::from_error)?;
+                let title = format!(
+                    "{name}: symmetric curve and the branch that breaks its symmetry, N = {}",
+                    both.broken.harmonics
+                );
+                let (l1, l2) = (format!("{name} (symmetric)"), format!("{name} (asymmetric)"));
+                let parent = Some((l1.as_str(), &both.symmetric, Branch::Asymmetric));
+                return write_curve(&both.broken, &l2, &title, &args, parent, out);
             }
             let mut watch = progress::CurveProgress::new(pb.clone(), &name);
             let curve = model.sweep(from, to, &settings, &mut watch);
@@ -188,6 +200,15 @@ fn distinct_outputs(files: &CurveArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Which branch a curve switched onto from a parent curve is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Branch {
+    /// The period-2 branch of a period doubling.
+    PeriodTwo,
+    /// The branch that breaks the parent's symmetry.
+    Asymmetric,
+}
+
 /// Write fold curves: CSV, SVG, and the JSON or a human summary.
 fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result<(), Failure> {
     if let Some(path) = &files.csv {
@@ -257,14 +278,15 @@ fn write_curve(
     name: &str,
     title: &str,
     files: &CurveArgs,
-    parent: Option<(&str, &Curve)>,
+    parent: Option<(&str, &Curve, Branch)>,
     out: &mut dyn Write,
 ) -> Result<(), Failure> {
-    // A branch switched onto from a parent curve is the period-2 branch.
     let json = || {
         let mut v = report::sweep_json(curve);
-        if parent.is_some() {
-            v["period"] = 2.into();
+        match parent.map(|p| p.2) {
+            Some(Branch::PeriodTwo) => v["period"] = 2.into(),
+            Some(Branch::Asymmetric) => v["branch"] = "symmetry-breaking".into(),
+            None => {}
         }
         v
     };
@@ -290,7 +312,7 @@ fn write_curve(
             unit: FreqUnit::RadPerSec,
             panels,
             series: parent
-                .map(|(label, c)| Series { label: label.to_string(), curve: c })
+                .map(|(label, c, _)| Series { label: label.to_string(), curve: c })
                 .into_iter()
                 .chain(std::iter::once(Series { label: name.to_string(), curve }))
                 .collect(),

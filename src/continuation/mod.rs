@@ -235,8 +235,8 @@ impl Default for SweepOptions {
 /// direction `v` (branch switching: [`crate::bifurcation::period_two`]), for Ω in
 /// `[from, to]`. The first point is a step of `step` (relative to the largest
 /// coefficient of `a0`) along `v`; the branch is traced one way, until it leaves the
-/// range or comes back to where its components in `mask` (those `v` moves and `a0`
-/// lacks) are as small as at the first point (it rejoined the solutions it left).
+/// range or crosses back through the solutions it left (its component along `v` in
+/// the coefficients of `mask`, which those solutions lack, changes sign).
 #[allow(clippy::too_many_arguments)]
 pub fn sweep_branch<M: Model>(
     model: &M,

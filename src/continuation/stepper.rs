@@ -63,8 +63,9 @@ enum State {
 }
 
 /// A start by branch switching: leave the solution `a0` at Ω = `omega0` along the
-/// coefficient direction `v`, and end where the components in `mask` (the
-/// directions the branch adds) shrink back below their size at the first point.
+/// coefficient direction `v`, and end where the branch crosses back through the
+/// solutions it left: where its component along `v` in the coefficients of `mask`
+/// (the directions the branch adds, which those solutions lack) changes sign.
 #[derive(Debug, Clone)]
 pub(super) struct Branch {
     pub a0: Vec<f64>,
@@ -73,7 +74,7 @@ pub(super) struct Branch {
     /// The first step along `v`, relative to the largest coefficient of `a0`.
     pub step: f64,
     pub mask: Vec<bool>,
-    /// `max |y[mask]|` at the first point (set when it is accepted).
+    /// The component along `v` at the first point (set when it is accepted).
     pub start_size: f64,
 }
 
@@ -114,8 +115,6 @@ pub struct Continuation<'m, M: Model> {
     queue: VecDeque<Event>,
     /// Started by branch switching rather than at the range end.
     branch: Option<Branch>,
-    /// A switched branch's new components have grown (see `rejoined`).
-    grown: bool,
     // step buffers
     y: Vec<f64>,
     t: Vec<f64>,
@@ -215,7 +214,6 @@ impl<'m, M: Model> Continuation<'m, M> {
             state: State::Start(0),
             queue: VecDeque::new(),
             branch: None,
-            grown: false,
             y: vec![0.0; n + 1],
             t: vec![0.0; n + 1],
             dirv: vec![0.0; n + 1],
@@ -386,7 +384,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let mut t0 = vec![0.0; n + 1];
         self.tr.tangent(&mut t0);
         // the tangent solves K t = e: it points along the border, away from a0
-        let size = (0..n).filter(|&i| b.mask[i]).fold(0.0f64, |m, i| m.max(y[i].abs()));
+        let size = Self::branch_component(&b, &y);
         if let Some(br) = self.branch.as_mut() {
             br.start_size = size;
         }
@@ -395,16 +393,18 @@ impl<'m, M: Model> Continuation<'m, M> {
         self.state = State::Walk { seg: 0, first, h: self.opts.initial_step };
     }
 
-    /// A switched branch back on the solutions it left: its new components no larger
-    /// than at its first point, after having grown past twice that.
-    fn rejoined(&mut self) -> bool {
-        let (Some(b), Some(nd)) = (&self.branch, self.nodes.last()) else { return false };
-        let size = (0..self.tr.n).filter(|&i| b.mask[i]).fold(0.0f64, |m, i| m.max(nd.y[i].abs()));
-        let start = b.start_size;
-        if size > 2.0 * start {
-            self.grown = true;
-        }
-        self.grown && size <= start
+    /// The component of `y` along the branch direction, in the coefficients the
+    /// branch adds.
+    fn branch_component(b: &Branch, y: &[f64]) -> f64 {
+        b.v.iter().zip(&b.mask).zip(y).filter(|((_, &m), _)| m).map(|((v, _), y)| v * y).sum()
+    }
+
+    /// A switched branch back through the solutions it left (the component along its
+    /// direction has changed sign since its first point): it rejoined them, at
+    /// another branch point, and from there it would retrace its mirror image.
+    fn rejoined(&self, y: &[f64]) -> bool {
+        let Some(b) = &self.branch else { return false };
+        Self::branch_component(b, y) * b.start_size < 0.0
     }
 
     fn start_segment(&mut self, seg: usize) {
@@ -487,15 +487,18 @@ impl<'m, M: Model> Continuation<'m, M> {
                 let b = if y[n] > hi_s { hi_s } else { lo_s };
                 break Some(self.land_on_end(last, b, &y, &dirv, seg));
             }
+            // A switched branch that crossed back through the solutions it left ends
+            // before that step: the step holds the other branch point, where the
+            // branch turns in Ω like at a fold but is not one.
+            if self.rejoined(&y) {
+                break Some(SegmentEnd::Rejoined);
+            }
             if self.nodes[last].t[n] * t[n] < 0.0 {
                 self.locate_fold(last, &dirv, h, t[n]);
             }
             self.accept(y.clone(), t.clone(), dirv.clone(), h, seg);
             if self.beyond_bound() {
                 break Some(SegmentEnd::AmplitudeBound);
-            }
-            if self.rejoined() {
-                break Some(SegmentEnd::Rejoined);
             }
             // Step control: corrector effort (Newton iterations: chord updates in
             // between are cheap) and tangent turn.

@@ -166,6 +166,24 @@ pub fn sweep_period_two<M: Model + Clone>(
     Ok(both)
 }
 
+/// The branch that breaks the symmetry of the curve from `from` to `to`, switched
+/// onto at its first branch point ([`bifurcation::break_symmetry`]).
+pub fn sweep_break_symmetry<M: Model + Clone>(
+    name: &str,
+    model: &M,
+    from: f64,
+    to: f64,
+    s: &SweepSettings,
+) -> Result<bifurcation::SymmetryBroken> {
+    check_omega("--from", from)?;
+    check_omega("--to", to)?;
+    let opts = s.options().map_err(|e| e.cli())?;
+    let mut both = bifurcation::break_symmetry(model, from, to, &opts)?;
+    both.symmetric.model = name.to_string();
+    both.broken.model = name.to_string();
+    Ok(both)
+}
+
 /// A parameter sweep at a fixed frequency: which parameter, over which range.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParamRange<'a> {

@@ -5,7 +5,7 @@
 //! monomorphises solve, sweep and simulate for `M`.
 
 use super::{self as engine, FoldRange, ParamRange, SimSettings, SolveSettings, SweepSettings};
-use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled};
+use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo, Text};
@@ -39,6 +39,9 @@ pub trait AnyModel: Send + Sync {
         -> Result<Curve>;
     /// The period-2 branch, switched onto at a period doubling of the period-1 curve.
     fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled>;
+    /// The branch that breaks the curve's symmetry, switched onto at a branch point.
+    fn sweep_break_symmetry(&self, from: f64, to: f64, s: &SweepSettings)
+        -> Result<SymmetryBroken>;
     /// Trace the response at a fixed frequency as one parameter moves.
     fn sweep_param(
         &self,
@@ -131,6 +134,14 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     }
     fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled> {
         engine::sweep_period_two(&self.name, &self.model, from, to, s)
+    }
+    fn sweep_break_symmetry(
+        &self,
+        from: f64,
+        to: f64,
+        s: &SweepSettings,
+    ) -> Result<SymmetryBroken> {
+        engine::sweep_break_symmetry(&self.name, &self.model, from, to, s)
     }
     fn sweep_param(
         &self,

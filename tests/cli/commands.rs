@@ -607,3 +607,46 @@ fn folds_follow_period_doubling_on_request() {
         "F = {f}: no period doubling of the sweep near Ω = {omega} ({nearest:e})"
     );
 }
+
+/// `sweep --break-symmetry`: the JSON of `sweep` with `"branch": "symmetry-breaking"`,
+/// starting at the symmetric curve's branch point; not together with `--period 2`.
+#[test]
+fn sweep_break_symmetry_switches_at_the_branch_point() {
+    let base = [
+        "sweep",
+        "duffing",
+        "--from",
+        "0.2",
+        "--to",
+        "4",
+        "--set",
+        "F=2",
+        "--set",
+        "c=0.05",
+        "--harmonics",
+        "6",
+    ];
+    let o = ihbm(&[&base[..], &["--json", "-"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sym: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let bp = sym["bifurcations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["kind"] == "branch-point")
+        .unwrap_or_else(|| panic!("no branch point: {}", sym["bifurcations"]))["omega"]
+        .as_f64()
+        .unwrap();
+    let o = ihbm(&[&base[..], &["--break-symmetry", "--json", "-"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["branch"], "symmetry-breaking");
+    let first = v["points"][0]["omega"].as_f64().unwrap();
+    assert!((first - bp).abs() < 1e-5 * bp, "starts at {first}, branch point at {bp}");
+    assert!(v["points"].as_array().unwrap().iter().any(|p| p["outputs"]["x"]["mean"]
+        .as_f64()
+        .unwrap()
+        .abs()
+        > 0.1));
+    assert_rejected(&[&base[..], &["--break-symmetry", "--period", "2"]].concat(), &["--period"]);
+}

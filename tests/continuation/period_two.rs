@@ -1,9 +1,10 @@
-//! The period-2 branch opened by period doubling, against time integration of the
+//! Branches switched onto: the period-2 branch opened by period doubling and the
+//! branch that breaks a symmetric curve's symmetry, against time integration of the
 //! equation of motion (a different method: RK4 from the harmonic balance's state).
 
-use ihbm::bifurcation::period_two;
+use ihbm::bifurcation::{break_symmetry, period_two};
 use ihbm::continuation::{sweep, SweepOptions};
-use ihbm::models::Quadratic;
+use ihbm::models::{Duffing, Quadratic};
 use ihbm::results::{BifurcationKind, Curve};
 
 const N2: usize = 8;
@@ -71,27 +72,11 @@ fn a_period_two_solution_repeats_every_two_periods_in_time_integration() {
         [y[1], (m.F * (omega * t).cos() - m.c * y[1] - m.k * y[0] - m.k2 * y[0] * y[0]) / m.m]
     };
     let period = std::f64::consts::TAU / omega;
-    let steps = 2000;
-    let dt = period / steps as f64;
-    let mut y = [series(&p.coeffs, w, 0.0), d_series(&p.coeffs, w, 0.0)];
     let scale = (0..400)
         .map(|j| series(&p.coeffs, w, j as f64 * 2.0 * period / 400.0).abs())
         .fold(0.0, f64::max);
-    let mut worst: f64 = 0.0;
-    let mut t = 0.0;
-    for i in 0..40 * steps {
-        let k1 = f(t, y);
-        let k2 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]]);
-        let k3 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]]);
-        let k4 = f(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]]);
-        for j in 0..2 {
-            y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-        }
-        t = (i + 1) as f64 * dt;
-        if i >= 38 * steps {
-            worst = worst.max((y[0] - series(&p.coeffs, w, t)).abs());
-        }
-    }
+    // over the last two forcing periods of forty
+    let worst = rk4_off_series(f, omega, &p.coeffs, w, 40, 2);
     assert!(worst < 1e-6 * scale, "Ω = {omega}: time integration {worst:e} off the HB waveform");
     // period 2T, not T
     let shift = (0..200)
@@ -101,4 +86,90 @@ fn a_period_two_solution_repeats_every_two_periods_in_time_integration() {
         })
         .fold(0.0, f64::max);
     assert!(shift > 0.1 * scale, "x(t + T) = x(t): not period 2 ({shift:e})");
+}
+
+/// RK4 of `x'' = f(t, x, x')` (as `f(t, [x, x'])`) for `periods` forcing periods
+/// from the state of the series `c` (harmonics of `w`); the largest distance from the
+/// series over the last `last` periods.
+fn rk4_off_series(
+    f: impl Fn(f64, [f64; 2]) -> [f64; 2],
+    omega: f64,
+    c: &[f64],
+    w: f64,
+    periods: usize,
+    last: usize,
+) -> f64 {
+    let steps = 2000;
+    let dt = std::f64::consts::TAU / omega / steps as f64;
+    let mut y = [series(c, w, 0.0), d_series(c, w, 0.0)];
+    let mut worst: f64 = 0.0;
+    for i in 0..periods * steps {
+        let t = i as f64 * dt;
+        let k1 = f(t, y);
+        let k2 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]]);
+        let k3 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k2[0], y[1] + dt / 2.0 * k2[1]]);
+        let k4 = f(t + dt, [y[0] + dt * k3[0], y[1] + dt * k3[1]]);
+        for j in 0..2 {
+            y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+        }
+        if i >= (periods - last) * steps {
+            worst = worst.max((y[0] - series(c, w, t + dt)).abs());
+        }
+    }
+    worst
+}
+
+/// The hardening Duffing oscillator (F = 2, c = 0.05) loses its symmetric response's
+/// stability at a branch point without a fold; the branch that leaves there has a
+/// mean and even harmonics, is a solution of the equation of motion, and ends where
+/// it crosses back through the symmetric curve at the other branch point.
+#[test]
+fn the_symmetry_breaking_branch_is_asymmetric_and_solves_the_equation_of_motion() {
+    let d = Duffing { F: 2.0, c: 0.05, ..Duffing::default() };
+    let opts = SweepOptions { harmonics: 16, ..Default::default() };
+    let res = break_symmetry(&d, 0.2, 4.0, &opts).unwrap();
+    let bps: Vec<f64> = res
+        .symmetric
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::BranchPoint)
+        .map(|b| b.omega)
+        .collect();
+    assert_eq!(bps.len(), 2, "{:?}", res.symmetric.bifurcations);
+    let b = &res.broken;
+    assert!((b.points[0].omega - bps[0]).abs() < 1e-5 * bps[0]);
+    assert_eq!(b.segments[0].ended.to_string(), "rejoined the curve it branched from");
+    let last = b.points.last().unwrap();
+    assert!(
+        (last.omega - bps[1]).abs() < 1e-2 * bps[1],
+        "ends at {} not near {}",
+        last.omega,
+        bps[1]
+    );
+    // the symmetric curve has no mean; the branch has one
+    assert!(res.symmetric.points.iter().all(|p| p.outputs[0].mean.abs() < 1e-9));
+    let p = b
+        .points
+        .iter()
+        .filter(|p| p.stability.is_stable())
+        .max_by(|x, y| x.outputs[0].mean.abs().total_cmp(&y.outputs[0].mean.abs()))
+        .unwrap();
+    assert!(p.outputs[0].mean.abs() > 0.1, "mean {}", p.outputs[0].mean);
+    let scale = p.outputs[0].max_abs;
+    // N = 16: with N = 6 the truncation alone is 7e-3 of the amplitude at x ≈ 1.9
+    let omega = p.omega;
+    let f = |t: f64, y: [f64; 2]| {
+        [y[1], (d.F * (omega * t).cos() - d.c * y[1] - d.k * y[0] - d.k3 * y[0].powi(3)) / d.m]
+    };
+    let off = rk4_off_series(f, omega, &p.coeffs, omega, 20, 1);
+    assert!(off < 1e-5 * scale, "Ω = {}: RK4 {off:e} off the harmonic balance", p.omega);
+    // x(t + T/2) = -x(t) holds for the symmetric response, not for this one
+    let period = std::f64::consts::TAU / p.omega;
+    let asym = (0..200)
+        .map(|j| {
+            let t = j as f64 * period / 200.0;
+            (series(&p.coeffs, p.omega, t + 0.5 * period) + series(&p.coeffs, p.omega, t)).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(asym > 0.1 * scale, "half-period antisymmetric ({asym:e})");
 }
