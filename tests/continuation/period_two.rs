@@ -5,7 +5,7 @@
 use ihbm::bifurcation::{break_symmetry, period_two};
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, Quadratic};
-use ihbm::results::{BifurcationKind, Curve};
+use ihbm::results::{BifurcationKind, Curve, CurvePoint};
 
 const N2: usize = 8;
 
@@ -54,23 +54,33 @@ fn the_period_two_branch_starts_at_the_period_doubling_of_the_period_one_curve()
     assert!(p2.points.len() > 10);
 }
 
+/// The stable point of the period-2 branch nearest Ω = 1.95, and the model.
+fn stable_period_two_point() -> (CurvePoint, Quadratic) {
+    let (_, p2) = branch();
+    let p = p2
+        .points
+        .into_iter()
+        .filter(|p| p.stability.is_stable())
+        .min_by(|a, b| (a.omega - 1.95).abs().total_cmp(&(b.omega - 1.95).abs()))
+        .unwrap();
+    (p, Quadratic::default())
+}
+
+/// The quadratic oscillator's `x''` as a function of `(t, [x, x'])`.
+fn quadratic_rhs(m: &Quadratic, omega: f64) -> impl Fn(f64, [f64; 2]) -> [f64; 2] + '_ {
+    move |t, y| {
+        [y[1], (m.F * (omega * t).cos() - m.c * y[1] - m.k * y[0] - m.k2 * y[0] * y[0]) / m.m]
+    }
+}
+
 /// A stable point of the period-2 branch integrated from its own state for 40 forcing
 /// periods: the motion stays on the harmonic-balance waveform, which repeats after
 /// two forcing periods and not after one.
 #[test]
 fn a_period_two_solution_repeats_every_two_periods_in_time_integration() {
-    let (_, p2) = branch();
-    let p = p2
-        .points
-        .iter()
-        .filter(|p| p.stability.is_stable())
-        .min_by(|a, b| (a.omega - 1.95).abs().total_cmp(&(b.omega - 1.95).abs()))
-        .unwrap();
+    let (p, m) = stable_period_two_point();
     let (omega, w) = (p.omega, p.omega / 2.0);
-    let m = Quadratic::default();
-    let f = |t: f64, y: [f64; 2]| {
-        [y[1], (m.F * (omega * t).cos() - m.c * y[1] - m.k * y[0] - m.k2 * y[0] * y[0]) / m.m]
-    };
+    let f = quadratic_rhs(&m, omega);
     let period = std::f64::consts::TAU / omega;
     let scale = (0..400)
         .map(|j| series(&p.coeffs, w, j as f64 * 2.0 * period / 400.0).abs())
@@ -88,22 +98,22 @@ fn a_period_two_solution_repeats_every_two_periods_in_time_integration() {
     assert!(shift > 0.1 * scale, "x(t + T) = x(t): not period 2 ({shift:e})");
 }
 
-/// RK4 of `x'' = f(t, x, x')` (as `f(t, [x, x'])`) for `periods` forcing periods
-/// from the state of the series `c` (harmonics of `w`); the largest distance from the
-/// series over the last `last` periods.
-fn rk4_off_series(
+/// Samples per forcing period of [`rk4`].
+const STEPS: usize = 2000;
+
+/// RK4 of `x'' = f(t, x, x')` (as `f(t, [x, x'])`) from `y0` for `periods` forcing
+/// periods of `2π/omega`, [`STEPS`] steps each; `x` at the ends of the steps of the
+/// last `last` periods.
+fn rk4(
     f: impl Fn(f64, [f64; 2]) -> [f64; 2],
     omega: f64,
-    c: &[f64],
-    w: f64,
+    mut y: [f64; 2],
     periods: usize,
     last: usize,
-) -> f64 {
-    let steps = 2000;
-    let dt = std::f64::consts::TAU / omega / steps as f64;
-    let mut y = [series(c, w, 0.0), d_series(c, w, 0.0)];
-    let mut worst: f64 = 0.0;
-    for i in 0..periods * steps {
+) -> Vec<f64> {
+    let dt = std::f64::consts::TAU / omega / STEPS as f64;
+    let mut out = Vec::with_capacity(last * STEPS);
+    for i in 0..periods * STEPS {
         let t = i as f64 * dt;
         let k1 = f(t, y);
         let k2 = f(t + dt / 2.0, [y[0] + dt / 2.0 * k1[0], y[1] + dt / 2.0 * k1[1]]);
@@ -112,11 +122,30 @@ fn rk4_off_series(
         for j in 0..2 {
             y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
         }
-        if i >= (periods - last) * steps {
-            worst = worst.max((y[0] - series(c, w, t + dt)).abs());
+        if i >= (periods - last) * STEPS {
+            out.push(y[0]);
         }
     }
-    worst
+    out
+}
+
+/// [`rk4`] from the state of the series `c` (harmonics of `w`): the largest distance
+/// from the series over the last `last` periods.
+fn rk4_off_series(
+    f: impl Fn(f64, [f64; 2]) -> [f64; 2],
+    omega: f64,
+    c: &[f64],
+    w: f64,
+    periods: usize,
+    last: usize,
+) -> f64 {
+    let dt = std::f64::consts::TAU / omega / STEPS as f64;
+    let start = (periods - last) * STEPS;
+    rk4(f, omega, [series(c, w, 0.0), d_series(c, w, 0.0)], periods, last)
+        .iter()
+        .enumerate()
+        .map(|(j, x)| (x - series(c, w, (start + j + 1) as f64 * dt)).abs())
+        .fold(0.0, f64::max)
 }
 
 /// The hardening Duffing oscillator (F = 2, c = 0.05) loses its symmetric response's
@@ -172,4 +201,48 @@ fn the_symmetry_breaking_branch_is_asymmetric_and_solves_the_equation_of_motion(
         })
         .fold(0.0, f64::max);
     assert!(asym > 0.1 * scale, "half-period antisymmetric ({asym:e})");
+}
+
+/// A harmonic balance in Ω/2 started independently — from the Fourier coefficients of
+/// the attractor that RK4 reaches from rest-near initial conditions after 300 forcing
+/// periods, not from the branch — converges to the branch's point at that Ω.
+#[test]
+fn a_balance_in_half_the_frequency_started_from_time_integration_finds_the_branch() {
+    use ihbm::bifurcation::Subharmonic;
+    use ihbm::corrector::{solve, SolveOptions};
+    let (p, m) = stable_period_two_point();
+    let (omega, w) = (p.omega, p.omega / 2.0);
+    let f = quadratic_rhs(&m, omega);
+    // integrate from a small state (not the branch's) until the transient has decayed
+    let samples = rk4(f, omega, [0.05, 0.0], 300, 2);
+    // its coefficients in harmonics of Ω/2 over the last two forcing periods
+    let ns = samples.len() as f64;
+    let mut guess = vec![0.0; 2 * N2 + 1];
+    for (j, x) in samples.iter().enumerate() {
+        let th = std::f64::consts::TAU * (j + 1) as f64 / ns; // phase ωt of the sample, mod 2π
+        guess[0] += x / ns;
+        for k in 1..=N2 {
+            guess[k] += 2.0 * x * (k as f64 * th).cos() / ns;
+            guess[N2 + k] += 2.0 * x * (k as f64 * th).sin() / ns;
+        }
+    }
+    let sub = Subharmonic(m.clone());
+    let sol = solve(&sub, w, &SolveOptions { harmonics: N2, ..Default::default() }, Some(&guess))
+        .unwrap();
+    // the attractor may be the branch or its copy shifted by T (odd harmonics negated)
+    let same = |sign: f64| {
+        sol.coeffs
+            .iter()
+            .zip(&p.coeffs)
+            .enumerate()
+            .map(|(i, (a, b))| {
+                let k = if i <= N2 { i } else { i - N2 };
+                let s = if k % 2 == 1 { sign } else { 1.0 };
+                (a - s * b).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let scale = p.coeffs.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let d = same(1.0).min(same(-1.0));
+    assert!(d < 1e-8 * scale, "independent balance {d:e} from the branch at Ω = {omega}");
 }
