@@ -24,6 +24,10 @@ pub struct SolveOptions {
     pub max_iter: usize,
     /// Step halvings allowed per iteration when the residual grows (default 12).
     pub max_halvings: usize,
+    /// Solutions that repeat every `period` forcing periods (default 1): `omega` is
+    /// then `Ω/period` and the coefficients are in its harmonics
+    /// ([`Balance::with_period`](crate::balance::Balance::with_period)).
+    pub period: usize,
 }
 
 impl Default for SolveOptions {
@@ -33,6 +37,7 @@ impl Default for SolveOptions {
             tol: 1e-10,
             max_iter: 50,
             max_halvings: 12,
+            period: 1,
         }
     }
 }
@@ -163,7 +168,7 @@ pub fn solve<M: Model>(
             expected: "a finite value > 0".into(),
         });
     }
-    let mut hb = Balance::new(model, opts.harmonics)?;
+    let mut hb = Balance::with_period(model, opts.harmonics, opts.period)?;
     let len = hb.len();
     // the linearized guess computes R(0) on the way; with a user guess it costs one
     // residual evaluation

@@ -56,7 +56,11 @@ pub struct Balance<'m, M: Model> {
     fourier: Fourier,
     params: Vec<f64>,
     orders: Vec<f64>,
+    /// The model's phase `Ωt` at each sample: `period` times the balance's own.
     phases: Vec<f64>,
+    /// Solutions repeat every `period` forcing periods: the balance runs at
+    /// `ω = Ω/period` in the harmonics of `ω`, the model sees `Ω = period·ω`.
+    period: f64,
     /// signal samples, `s * M + j`
     sig: Vec<f64>,
     /// scratch samples (a derivative of each signal), `s * M + j`
@@ -120,19 +124,40 @@ pub fn check_inputs(harmonics: usize, omega: f64) -> Result<()> {
 impl<'m, M: Model> Balance<'m, M> {
     /// Buffers and FFT plans for `model` with `harmonics` harmonics.
     pub fn new(model: &'m M, harmonics: usize) -> Result<Self> {
+        Self::with_period(model, harmonics, 1)
+    }
+
+    /// The balance of solutions that repeat every `period` forcing periods: its
+    /// frequency argument is `ω = Ω/period` and its harmonics are those of `ω` (a
+    /// period-1 solution has only every `period`-th of them). `period = 2` is the
+    /// branch a period doubling opens ([`crate::bifurcation::period_two`]).
+    pub fn with_period(model: &'m M, harmonics: usize, period: usize) -> Result<Self> {
         check_inputs(harmonics, 1.0)?;
+        if period == 0 {
+            return Err(Error::InvalidValue {
+                what: "period".into(),
+                value: "0".into(),
+                expected: "a whole number of forcing periods >= 1".into(),
+            });
+        }
         model.validate()?;
         let ndof = model.dofs().len();
         check_size(ndof, harmonics)?;
         // Fewer harmonics than the forcing has would drop part of it without a word.
-        let kf = model.max_forcing_harmonic();
+        let kf = model.max_forcing_harmonic() * period;
         if harmonics < kf {
             return Err(Error::InvalidValue {
                 what: "number of harmonics".into(),
                 value: format!("N = {harmonics}"),
                 expected: format!(
-                    "N >= {kf}: model '{}' is forced at {kf}Ω, which fewer harmonics would drop",
-                    model.name()
+                    "N >= {kf}: model '{}' is forced at {}Ω{}, which fewer harmonics would drop",
+                    model.name(),
+                    model.max_forcing_harmonic(),
+                    if period > 1 {
+                        format!(" (harmonic {kf} of Ω/{period})")
+                    } else {
+                        String::new()
+                    }
                 ),
             });
         }
@@ -145,9 +170,9 @@ impl<'m, M: Model> Balance<'m, M> {
                 )));
             }
         }
-        let m = sample_count(model.degree(), harmonics, model.max_forcing_harmonic());
+        let m = sample_count(model.degree(), harmonics, kf);
         let fourier = Fourier::new(harmonics, m)?;
-        let phases = fourier.phases();
+        let phases: Vec<f64> = fourier.phases().iter().map(|p| p * period as f64).collect();
         let l = coeff_len(harmonics);
         let params = model.param_values();
         let mut hb = Balance {
@@ -160,6 +185,7 @@ impl<'m, M: Model> Balance<'m, M> {
             orders: vec![0.0; nsig],
             params,
             phases,
+            period: period as f64,
             sig: vec![0.0; nsig * m],
             dsig: vec![0.0; nsig * m],
             res: vec![0.0; ndof * m],
@@ -295,7 +321,7 @@ impl<'m, M: Model> Balance<'m, M> {
             }
             self.model.residual::<f64>(
                 &self.params,
-                omega,
+                omega * self.period,
                 self.phases[j],
                 &self.f_sig,
                 &mut self.f_out,
@@ -395,7 +421,7 @@ impl<'m, M: Model> Balance<'m, M> {
         }
         self.model.residual(
             &self.d_params,
-            Dual64::from_re(omega),
+            Dual64::from_re(omega * self.period),
             self.phases[j],
             &self.d_sig,
             &mut self.d_out,
@@ -417,7 +443,7 @@ impl<'m, M: Model> Balance<'m, M> {
             }
             self.model.residual(
                 &self.d_params,
-                Dual64::new(omega, d_omega),
+                Dual64::new(omega * self.period, d_omega * self.period),
                 self.phases[j],
                 &self.d_sig,
                 &mut self.d_out,

@@ -181,7 +181,7 @@ impl<M: Model> Balance<'_, M> {
         for (i, (h, &p)) in work.h_params.iter_mut().zip(&self.params).enumerate() {
             *h = HyperDual64::new(p, 0.0, if Some(i) == d_param { 1.0 } else { 0.0 }, 0.0);
         }
-        let h_omega = HyperDual64::new(omega, 0.0, d_omega, 0.0);
+        let h_omega = HyperDual64::new(omega * self.period, 0.0, d_omega * self.period, 0.0);
         for j in 0..m {
             for s in 0..self.nsig {
                 let i = s * m + j;

@@ -21,7 +21,6 @@
 //! with `φ` the identity or, for a parameter range spanning a decade or more of
 //! positive values, the logarithm (so that steps are relative in `P`).
 
-use super::period_two::Subharmonic;
 use crate::balance::{Balance, BilinearWork};
 use crate::continuation::tracer::{dot, no_convergence, stalling};
 use crate::linalg::DenseLu;
@@ -103,7 +102,7 @@ pub(crate) enum TestMatrix<'m, M: Model> {
 
 /// The period-2 balance of a period-doubling curve and its buffers.
 pub(crate) struct OddBlock<'m, M: Model> {
-    bal: Balance<'m, Subharmonic<M>>,
+    bal: Balance<'m, M>,
     work: BilinearWork,
     /// Where each period-1 coefficient goes among the period-2 ones.
     emb: Vec<usize>,
@@ -118,11 +117,12 @@ pub(crate) struct OddBlock<'m, M: Model> {
 }
 
 impl<'m, M: Model> OddBlock<'m, M> {
-    /// For a period-1 balance of `n1` harmonics with `ndof` DOFs: the balance of `sub`
-    /// in `2 n1` harmonics of Ω/2 (so that every period-1 harmonic has its place).
-    pub fn new(sub: &'m Subharmonic<M>, ndof: usize, n1: usize) -> crate::error::Result<Self> {
+    /// For a period-1 balance of `n1` harmonics with `ndof` DOFs: the balance of
+    /// `model` with period 2 in `2 n1` harmonics of Ω/2 (so that every period-1
+    /// harmonic has its place).
+    pub fn new(model: &'m M, ndof: usize, n1: usize) -> crate::error::Result<Self> {
         let n2 = 2 * n1;
-        let bal = Balance::new(sub, n2)?;
+        let bal = Balance::with_period(model, n2, 2)?;
         let len = bal.len();
         let (l1, l2) = (2 * n1 + 1, 2 * n2 + 1);
         let mut emb = Vec::with_capacity(ndof * l1);

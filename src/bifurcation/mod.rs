@@ -28,9 +28,7 @@ mod fold_curve;
 mod fold_system;
 mod period_two;
 
-pub use period_two::{
-    break_symmetry, embed, period_two, PeriodDoubled, Subharmonic, SymmetryBroken,
-};
+pub use period_two::{break_symmetry, embed, period_two, PeriodDoubled, SymmetryBroken};
 
 use crate::balance::Balance;
 use crate::continuation::{sweep, Control, SweepOptions};
@@ -394,7 +392,6 @@ pub fn fold_curves_with<M: Model + Clone>(
             omega_to: w1,
         });
     }
-    let sub = Subharmonic(model.clone());
     let ndof = model.dofs().len();
     let mut stopped = false;
     for (end, v, start_fold, fold) in starts {
@@ -409,7 +406,7 @@ pub fn fold_curves_with<M: Model + Clone>(
         let bal = Balance::new(model, sweep_opts.harmonics)?;
         let mut sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
         if opts.boundary == Boundary::PeriodDoubling {
-            sys = sys.period_doubling(OddBlock::new(&sub, ndof, sweep_opts.harmonics)?);
+            sys = sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?);
         }
         sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
         sys.so = w1 - w0;

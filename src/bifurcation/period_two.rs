@@ -1,6 +1,7 @@
-//! The branch that period doubling opens: solutions of period `2T = 2·(2π/Ω)`,
-//! found by harmonic balance in `Ω/2` ([`Subharmonic`]) and started by branch
-//! switching at a period-doubling point of the period-1 curve.
+//! Branch switching: the branch that period doubling opens (solutions of period
+//! `2T = 2·(2π/Ω)`, a harmonic balance in `Ω/2`:
+//! [`Balance::with_period`](crate::balance::Balance::with_period)), and the branch that
+//! breaks a symmetric curve's symmetry.
 //!
 //! In the harmonics of `Ω/2` a period-1 solution has only even harmonics, and its
 //! Jacobian couples even with even and odd with odd. At period doubling the odd block
@@ -17,68 +18,9 @@ use crate::continuation::{self, SweepOptions};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::linalg::DenseLu;
-use crate::model::{Model, Output, ParamInfo, Signal, Text};
+use crate::model::Model;
 use crate::results::{BifurcationKind, Curve};
 use faer::prelude::ReborrowMut;
-use num_dual::DualNum;
-
-/// A model seen at half its forcing frequency: the harmonic balance of
-/// `Subharmonic(m)` at `ω` is that of `m` at `Ω = 2ω` in the harmonics of `Ω/2`, so
-/// its solutions have period `2·(2π/Ω)`. Every other property is the model's.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Subharmonic<M>(pub M);
-
-impl<M: Model> Model for Subharmonic<M> {
-    fn name(&self) -> &str {
-        self.0.name()
-    }
-    fn description(&self) -> &str {
-        self.0.description()
-    }
-    fn dofs(&self) -> &[Text] {
-        self.0.dofs()
-    }
-    fn params_info(&self) -> &[ParamInfo] {
-        self.0.params_info()
-    }
-    fn param_value(&self, index: usize) -> f64 {
-        self.0.param_value(index)
-    }
-    fn set_param_value(&mut self, index: usize, value: f64) {
-        self.0.set_param_value(index, value)
-    }
-    fn signals(&self) -> &[Signal] {
-        self.0.signals()
-    }
-    fn outputs(&self) -> &[Output] {
-        self.0.outputs()
-    }
-    fn degree(&self) -> usize {
-        self.0.degree()
-    }
-    fn max_forcing_harmonic(&self) -> usize {
-        2 * self.0.max_forcing_harmonic()
-    }
-    fn equations(&self) -> &[Text] {
-        self.0.equations()
-    }
-    fn affine_signals(&self) -> &[bool] {
-        self.0.affine_signals()
-    }
-    fn explicit_omega(&self) -> bool {
-        self.0.explicit_omega()
-    }
-    fn residual<D: DualNum<Primitive = f64> + Copy>(
-        &self,
-        params: &[D],
-        omega: D,
-        phase: f64,
-        signals: &[D],
-        out: &mut [D],
-    ) {
-        self.0.residual(params, omega * 2.0, 2.0 * phase, signals, out)
-    }
-}
 
 /// The largest even-harmonic content (relative to the odd) of a solution counted as
 /// symmetric.
@@ -94,7 +36,7 @@ pub struct PeriodDoubled {
     /// The period-1 curve (`⌈N/2⌉` harmonics of Ω), with its stability.
     pub period_one: Curve,
     /// The period-2 branch (`N` harmonics of Ω/2); Ω values are forcing frequencies,
-    /// coefficients are in the harmonics of Ω/2 (layout of [`Subharmonic`]).
+    /// coefficients are in the harmonics of Ω/2 (a balance with period 2).
     pub period_two: Curve,
     /// The forcing frequency of the period doubling it was switched onto at.
     pub switched_at: f64,
@@ -141,17 +83,17 @@ pub fn period_two<M: Model + Clone>(
     let near = &curve1.points[pd.after];
     let so = SolveOptions { harmonics: n1, ..Default::default() };
     let sol = corrector::solve(model, omega_pd, &so, Some(&near.coeffs))?;
-    let sub = Subharmonic(model.clone());
     let ndof = model.dofs().len();
     let a_star = embed(&sol.coeffs, ndof, n1, n2);
     let w = omega_pd / 2.0;
     let mask = odd_harmonics(ndof, n2);
-    let v = critical_direction(&sub, n2, &a_star, w, &mask)?;
+    let v = critical_direction(model, n2, 2, &a_star, w, &mask)?;
+    let opts2 = SweepOptions { period: 2, ..opts.clone() };
     let mut curve = continuation::sweep_branch(
-        &sub,
+        model,
         from / 2.0,
         to / 2.0,
-        opts,
+        &opts2,
         &a_star,
         w,
         &v,
@@ -237,7 +179,7 @@ pub fn break_symmetry<M: Model + Clone>(
         )));
     }
     let a: Vec<f64> = a.iter().zip(&even).map(|(&x, &e)| if e { 0.0 } else { x }).collect();
-    let v = critical_direction(model, n, &a, bp.omega, &even)?;
+    let v = critical_direction(model, n, 1, &a, bp.omega, &even)?;
     let broken =
         continuation::sweep_branch(model, from, to, opts, &a, bp.omega, &v, &even, SWITCH_STEP)?;
     let switched_at = bp.omega;
@@ -261,13 +203,14 @@ fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
 /// Jacobian keeps apart from the others (the odd harmonics of Ω/2 at a period-1
 /// solution; the even harmonics of Ω at a symmetric one).
 fn critical_direction<M: Model>(
-    sub: &M,
+    model: &M,
     n2: usize,
+    period: usize,
     a: &[f64],
     w: f64,
     odd: &[bool],
 ) -> Result<Vec<f64>> {
-    let mut bal = Balance::new(sub, n2)?;
+    let mut bal = Balance::with_period(model, n2, period)?;
     let len = bal.len();
     debug_assert_eq!(len, odd.len());
     let mut lu = DenseLu::new(len);
@@ -290,8 +233,8 @@ fn critical_direction<M: Model>(
     Ok(v)
 }
 
-/// Ω in the curve's own units (`Ω/2` of the subharmonic balance) back to the forcing
-/// frequency.
+/// Ω in the curve's own units (`Ω/2` of the balance with period 2) back to the
+/// forcing frequency.
 fn double_frequencies(c: &mut Curve) {
     for p in &mut c.points {
         p.omega *= 2.0;

@@ -210,6 +210,10 @@ pub struct SweepOptions {
     pub stability: Option<StabilityOptions>,
     /// Harmonic convergence study; `None` runs once with `harmonics`.
     pub convergence: Option<ConvergenceOptions>,
+    /// Solutions that repeat every `period` forcing periods (1: the usual; 2: a
+    /// period-doubled branch). With `period` > 1 the continuation runs in `ω = Ω/period`
+    /// and the harmonics of `ω` ([`Balance::with_period`](crate::balance::Balance::with_period)).
+    pub period: usize,
 }
 
 impl Default for SweepOptions {
@@ -227,6 +231,7 @@ impl Default for SweepOptions {
             amplitude_bound: AmplitudeBound::Relative(1e3),
             stability: Some(StabilityOptions::default()),
             convergence: None,
+            period: 1,
         }
     }
 }

@@ -151,7 +151,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         opts: &SweepOptions,
     ) -> Result<Self> {
         let nh = opts.harmonics;
-        let bal = Balance::new(model, nh)?;
+        let bal = Balance::with_period(model, nh, opts.period)?;
         let mut tr = Tracer::new(bal, axis, opts.tol, opts.max_iter);
         let n = tr.n;
         tr.sl = hi - lo;
@@ -182,7 +182,11 @@ impl<'m, M: Model> Continuation<'m, M> {
             AmplitudeBound::Absolute(_) | AmplitudeBound::None => None,
         };
         let stab = match opts.stability {
-            Some(so) => Some(Stab { opts: so, hill: Hill::new(model, nh)?, locator: None }),
+            Some(so) => Some(Stab {
+                opts: so,
+                hill: Hill::with_period(model, nh, opts.period)?,
+                locator: None,
+            }),
             None => None,
         };
         let parameter = match axis {
@@ -335,6 +339,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let guess = if self.tr.axis == Axis::Omega {
             let so = crate::corrector::SolveOptions {
                 harmonics: self.opts.harmonics,
+                period: self.opts.period,
                 ..Default::default()
             };
             crate::corrector::solve(self.model, lam, &so, None).ok().map(|s| s.coeffs)
@@ -671,7 +676,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let so = st.opts;
         let mut locator = match st.locator.take() {
             Some(h) => h,
-            None => match Hill::new(self.model, self.opts.harmonics) {
+            None => match Hill::with_period(self.model, self.opts.harmonics, self.opts.period) {
                 Ok(h) => h,
                 Err(_) => return,
             },

@@ -190,13 +190,23 @@ pub struct TrackCounts {
 impl Hill {
     /// A workspace for `model` truncated at `harmonics` harmonics.
     pub fn new<M: Model>(model: &M, harmonics: usize) -> Result<Hill> {
+        Self::with_period(model, harmonics, 1)
+    }
+
+    /// [`Hill::new`] for the balance of solutions of `period` forcing periods
+    /// ([`Balance::with_period`](crate::balance::Balance::with_period)), whose samples it
+    /// shares.
+    pub fn with_period<M: Model>(model: &M, harmonics: usize, period: usize) -> Result<Hill> {
         crate::fourier::check_harmonics(harmonics)?;
         let ndof = model.dofs().len();
         crate::balance::check_size(ndof, harmonics)?;
         let len = 2 * harmonics + 1;
         let m = ndof * len;
-        let samples =
-            crate::fourier::sample_count(model.degree(), harmonics, model.max_forcing_harmonic());
+        let samples = crate::fourier::sample_count(
+            model.degree(),
+            harmonics,
+            model.max_forcing_harmonic() * period.max(1),
+        );
         let mut degree = 0usize;
         let mut fractional = false;
         let signals: Vec<_> = model

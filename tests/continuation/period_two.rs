@@ -208,7 +208,6 @@ fn the_symmetry_breaking_branch_is_asymmetric_and_solves_the_equation_of_motion(
 /// periods, not from the branch — converges to the branch's point at that Ω.
 #[test]
 fn a_balance_in_half_the_frequency_started_from_time_integration_finds_the_branch() {
-    use ihbm::bifurcation::Subharmonic;
     use ihbm::corrector::{solve, SolveOptions};
     let (p, m) = stable_period_two_point();
     let (omega, w) = (p.omega, p.omega / 2.0);
@@ -226,9 +225,8 @@ fn a_balance_in_half_the_frequency_started_from_time_integration_finds_the_branc
             guess[N2 + k] += 2.0 * x * (k as f64 * th).sin() / ns;
         }
     }
-    let sub = Subharmonic(m.clone());
-    let sol = solve(&sub, w, &SolveOptions { harmonics: N2, ..Default::default() }, Some(&guess))
-        .unwrap();
+    let so = SolveOptions { harmonics: N2, period: 2, ..Default::default() };
+    let sol = solve(&m, w, &so, Some(&guess)).unwrap();
     // the attractor may be the branch or its copy shifted by T (odd harmonics negated)
     let same = |sign: f64| {
         sol.coeffs
