@@ -21,6 +21,7 @@
 //! with `φ` the identity or, for a parameter range spanning a decade or more of
 //! positive values, the logarithm (so that steps are relative in `P`).
 
+use super::period_two::{embedding, odd_harmonics};
 use crate::balance::{Balance, BilinearWork};
 use crate::continuation::tracer::{dot, no_convergence, stalling};
 use crate::linalg::DenseLu;
@@ -124,19 +125,12 @@ impl<'m, M: Model> OddBlock<'m, M> {
         let n2 = 2 * n1;
         let bal = Balance::with_period(model, n2, 2)?;
         let len = bal.len();
-        let (l1, l2) = (2 * n1 + 1, 2 * n2 + 1);
-        let mut emb = Vec::with_capacity(ndof * l1);
-        for d in 0..ndof {
-            emb.push(d * l2);
-            emb.extend((1..=n1).map(|k| d * l2 + 2 * k));
-            emb.extend((1..=n1).map(|k| d * l2 + n2 + 2 * k));
-        }
-        let odd: Vec<usize> = (0..len)
-            .filter(|i| {
-                let k = i % l2;
-                let h = if k <= n2 { k } else { k - n2 };
-                h % 2 == 1
-            })
+        // n2 = 2 n1: every period-1 coefficient has its place
+        let emb: Vec<usize> = embedding(ndof, n1, n2).into_iter().flatten().collect();
+        let odd: Vec<usize> = odd_harmonics(ndof, n2)
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, o)| o.then_some(i))
             .collect();
         Ok(OddBlock {
             work: BilinearWork::new(&bal),

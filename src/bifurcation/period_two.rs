@@ -107,17 +107,27 @@ pub fn period_two<M: Model + Clone>(
 /// Period-1 coefficients (`n1` harmonics of Ω) as coefficients in `n2` harmonics of
 /// `Ω/2`: harmonic `k` becomes harmonic `2k`.
 pub fn embed(a: &[f64], ndof: usize, n1: usize, n2: usize) -> Vec<f64> {
-    let (l1, l2) = (2 * n1 + 1, 2 * n2 + 1);
-    let mut out = vec![0.0; ndof * l2];
-    for d in 0..ndof {
-        let (src, dst) = (&a[d * l1..(d + 1) * l1], &mut out[d * l2..(d + 1) * l2]);
-        dst[0] = src[0];
-        for k in 1..=n1 {
-            if 2 * k <= n2 {
-                dst[2 * k] = src[k];
-                dst[n2 + 2 * k] = src[n1 + k];
-            }
+    let mut out = vec![0.0; ndof * (2 * n2 + 1)];
+    for (&x, to) in a.iter().zip(embedding(ndof, n1, n2)) {
+        if let Some(i) = to {
+            out[i] = x;
         }
+    }
+    out
+}
+
+/// Where each period-1 coefficient (`n1` harmonics of Ω, `ndof` blocks) goes among the
+/// coefficients in `n2` harmonics of Ω/2: harmonic `k` to `2k` (`None` beyond `n2`).
+pub(super) fn embedding(ndof: usize, n1: usize, n2: usize) -> Vec<Option<usize>> {
+    let l2 = 2 * n2 + 1;
+    let to = |d: usize, h: usize, sin: bool| {
+        (2 * h <= n2).then(|| d * l2 + if sin { n2 } else { 0 } + 2 * h)
+    };
+    let mut out = Vec::with_capacity(ndof * (2 * n1 + 1));
+    for d in 0..ndof {
+        out.push(Some(d * l2));
+        out.extend((1..=n1).map(|k| to(d, k, false)));
+        out.extend((1..=n1).map(|k| to(d, k, true)));
     }
     out
 }
@@ -187,7 +197,7 @@ pub fn break_symmetry<M: Model + Clone>(
 }
 
 /// Which coefficients (`ndof` blocks of `2n + 1`) belong to odd harmonics.
-fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
+pub(super) fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
     let l = 2 * n + 1;
     (0..ndof * l)
         .map(|i| {
