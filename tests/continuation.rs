@@ -16,3 +16,5 @@ mod period_two;
 mod quarter_car;
 #[path = "continuation/snapshots.rs"]
 mod snapshots;
+#[path = "continuation/torus_curves.rs"]
+mod torus_curves;

@@ -19,16 +19,22 @@ use std::f64::consts::FRAC_PI_2;
 /// Buffers of [`Balance::bilinear_gradient`], sized for one balance and reused.
 #[derive(Debug, Clone)]
 pub struct BilinearWork {
-    /// signal samples of `v`, `s * M + j`
+    /// signal samples of `v`, `s * M + j` (the real part, for a complex `v`)
     sv: Vec<f64>,
+    /// the imaginary part of the signal samples of a complex `v`
+    sv_im: Vec<f64>,
     /// the derivative of each signal along the current direction, `s * M + j`
     su: Vec<f64>,
     /// the derivative of `sv` along the current direction
     suv: Vec<f64>,
+    suv_im: Vec<f64>,
     /// projected `D_v D_u R`
     out: Vec<f64>,
     /// coefficient scratch: a unit vector
     unit: Vec<f64>,
+    /// one signal's combination of a complex `v` and its image (real, imaginary)
+    comb: [Vec<f64>; 2],
+    image: [Vec<f64>; 2],
     h_params: Vec<HyperDual64>,
     h_sig: Vec<HyperDual64>,
     h_out: Vec<HyperDual64>,
@@ -38,13 +44,18 @@ impl BilinearWork {
     /// Buffers for `bal`.
     pub fn new<M: Model>(bal: &Balance<'_, M>) -> Self {
         let (m, nsig, n) = (bal.m, bal.nsig, bal.len());
+        let len = 2 * bal.n + 1;
         let zero = HyperDual64::new(0.0, 0.0, 0.0, 0.0);
         BilinearWork {
             sv: vec![0.0; nsig * m],
+            sv_im: vec![0.0; nsig * m],
             su: vec![0.0; nsig * m],
             suv: vec![0.0; nsig * m],
+            suv_im: vec![0.0; nsig * m],
             out: vec![0.0; n],
             unit: vec![0.0; n],
+            comb: [vec![0.0; len], vec![0.0; len]],
+            image: [vec![0.0; len], vec![0.0; len]],
             h_params: vec![zero; bal.params.len()],
             h_sig: vec![zero; nsig],
             h_out: vec![zero; bal.ndof],
@@ -58,6 +69,17 @@ enum Along {
     Coeff(usize),
     Omega,
     Param(usize),
+}
+
+/// Which factor of the shifted operator `(λ ± ikΩ)^q` a signal of `e^{λt} v` gets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Factor {
+    /// `(λ ± ikΩ)^q`
+    Value,
+    /// its derivative in Ω
+    DOmega,
+    /// its derivative in the order `q`
+    DOrder,
 }
 
 impl<M: Model> Balance<'_, M> {
@@ -99,11 +121,85 @@ impl<M: Model> Balance<'_, M> {
         for s in 0..self.nsig {
             self.signal_of(s, v, omega, false, &mut work.sv[s * m..(s + 1) * m]);
         }
+        let dot = |out: &[f64]| -> f64 { out.iter().zip(w).map(|(x, y)| x * y).sum() };
         for k in 0..self.len() {
-            d_a[k] = self.along(Along::Coeff(k), omega, a, v, w, work);
+            self.set_direction(Along::Coeff(k), omega, a, work);
+            work.suv.fill(0.0);
+            self.pass(Along::Coeff(k), omega, false, work);
+            d_a[k] = dot(&work.out);
         }
-        let d_omega = self.along(Along::Omega, omega, a, v, w, work);
-        let d_param = param.map_or(0.0, |i| self.along(Along::Param(i), omega, a, v, w, work));
+        // every factor (ikΩ)^q moves by (q/Ω)(ikΩ)^q
+        self.set_direction(Along::Omega, omega, a, work);
+        for s in 0..self.nsig {
+            let f = self.orders[s] / omega;
+            for j in 0..m {
+                work.suv[s * m + j] = f * work.sv[s * m + j];
+            }
+        }
+        self.pass(Along::Omega, omega, false, work);
+        let d_omega = dot(&work.out);
+        let d_param = param.map_or(0.0, |index| {
+            self.set_direction(Along::Param(index), omega, a, work);
+            work.suv.fill(0.0);
+            let model = self.model;
+            for s in 0..self.nsig {
+                if model.signals()[s].order == Order::Param(index) {
+                    self.signal_of(s, v, omega, true, &mut work.suv[s * m..(s + 1) * m]);
+                }
+            }
+            self.pass(Along::Param(index), omega, false, work);
+            dot(&work.out)
+        });
+        (d_omega, d_param)
+    }
+
+    /// The gradient of `ψ = wᴴ T(λ) v` at fixed complex `w` and `v`, where `T(λ)` is
+    /// Hill's operator at the exponent `λ`: the Jacobian of the residual applied to
+    /// perturbations `e^{λt} v(t)`, whose signals carry the factors `(λ ± ikΩ)^q`
+    /// instead of `(±ikΩ)^q` (so `T(0) = J`). `∂ψ/∂a` into `d_a`, `(∂ψ/∂Ω,
+    /// ∂ψ/∂θ_param)` returned. Exact (hyper-dual numbers, the real and imaginary
+    /// parts of `v` in two passes per direction): the derivative of a torus curve's
+    /// test function ([`crate::bifurcation`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn shifted_bilinear_gradient(
+        &mut self,
+        a: &[f64],
+        omega: f64,
+        lambda: Complex64,
+        w: &[Complex64],
+        v: &[Complex64],
+        param: Option<usize>,
+        work: &mut BilinearWork,
+        d_a: &mut [Complex64],
+    ) -> (Complex64, Complex64) {
+        self.fill_signals(a, omega);
+        let model = self.model;
+        let nsig = self.nsig;
+        for s in 0..nsig {
+            self.shifted_signal(s, v, omega, lambda, Factor::Value, work, true);
+        }
+        for k in 0..self.len() {
+            self.set_direction(Along::Coeff(k), omega, a, work);
+            work.suv.fill(0.0);
+            work.suv_im.fill(0.0);
+            d_a[k] = self.complex_pass(Along::Coeff(k), omega, w, work);
+        }
+        self.set_direction(Along::Omega, omega, a, work);
+        for s in 0..nsig {
+            self.shifted_signal(s, v, omega, lambda, Factor::DOmega, work, false);
+        }
+        let d_omega = self.complex_pass(Along::Omega, omega, w, work);
+        let d_param = param.map_or(Complex64::new(0.0, 0.0), |index| {
+            self.set_direction(Along::Param(index), omega, a, work);
+            work.suv.fill(0.0);
+            work.suv_im.fill(0.0);
+            for s in 0..nsig {
+                if model.signals()[s].order == Order::Param(index) {
+                    self.shifted_signal(s, v, omega, lambda, Factor::DOrder, work, false);
+                }
+            }
+            self.complex_pass(Along::Param(index), omega, w, work)
+        });
         (d_omega, d_param)
     }
 
@@ -130,18 +226,90 @@ impl<M: Model> Balance<'_, M> {
         self.fourier.synthesize(&self.op, out);
     }
 
-    /// `wᵀ D_v D_u R` for one direction `u` (signals of `a` filled, `work.sv` set).
-    fn along(
+    /// Samples (real and imaginary parts) of signal `s` of the perturbation
+    /// `e^{λt} v(t)`, without the `e^{λt}`: harmonic `k` of the DOF combination gets
+    /// `(λ + ikΩ)^q` on `e^{ikθ}` and `(λ - ikΩ)^q` on `e^{-ikθ}` (principal branch,
+    /// as in Hill's operator), or their derivative in Ω or `q`. Into `sv`/`sv_im` if
+    /// `first`, else into `suv`/`suv_im`.
+    #[allow(clippy::too_many_arguments)]
+    fn shifted_signal(
         &mut self,
-        u: Along,
+        s: usize,
+        v: &[Complex64],
         omega: f64,
-        a: &[f64],
-        v: &[f64],
-        w: &[f64],
+        lambda: Complex64,
+        factor: Factor,
         work: &mut BilinearWork,
-    ) -> f64 {
+        first: bool,
+    ) {
+        let (m, nh) = (self.m, self.n);
+        let q = self.orders[s];
+        let terms = &self.model.signals()[s].terms;
+        let len = 2 * nh + 1;
+        for (part, comb) in work.comb.iter_mut().enumerate() {
+            comb.fill(0.0);
+            for &(d, c) in terms.iter() {
+                for (o, x) in comb.iter_mut().zip(&v[d * len..(d + 1) * len]) {
+                    *o += c * if part == 0 { x.re } else { x.im };
+                }
+            }
+        }
+        let zero = Complex64::new(0.0, 0.0);
+        let i1 = Complex64::new(0.0, 1.0);
+        // f(z) = z^q or its derivative; `dz` is dz/dΩ of z = λ ± ikΩ.
+        let f = |z: Complex64, dz: f64| -> Complex64 {
+            let pow = |z: Complex64, e: f64| -> Complex64 {
+                if e == 0.0 {
+                    Complex64::new(1.0, 0.0)
+                } else if z == zero {
+                    zero
+                } else if e.fract() == 0.0 {
+                    z.powi(e as i32)
+                } else {
+                    z.powf(e)
+                }
+            };
+            match factor {
+                Factor::Value => pow(z, q),
+                Factor::DOmega if q == 0.0 => zero,
+                Factor::DOmega => q * pow(z, q - 1.0) * dz,
+                Factor::DOrder if z == zero => zero,
+                Factor::DOrder => pow(z, q) * z.ln(),
+            }
+        };
+        let ([cr, ci], [yr, yi]) = (&work.comb, &mut work.image);
+        let y0 = f(lambda, 0.0);
+        let x0 = Complex64::new(cr[0], ci[0]);
+        let z0 = y0 * x0;
+        (yr[0], yi[0]) = (z0.re, z0.im);
+        for k in 1..=nh {
+            let kw = k as f64 * omega;
+            let fp = f(lambda + i1 * kw, k as f64);
+            let fm = f(lambda - i1 * kw, -(k as f64));
+            // Hill's real-basis factors: cos part α x_c - β x_s, sin part β x_c + α x_s
+            let (fp, fm) = match factor {
+                Factor::DOmega => (fp * i1, fm * i1),
+                _ => (fp, fm),
+            };
+            let (al, be) = ((fp + fm) * 0.5, i1 * (fp - fm) * 0.5);
+            let xc = Complex64::new(cr[k], ci[k]);
+            let xs = Complex64::new(cr[nh + k], ci[nh + k]);
+            let (c, sn) = (al * xc - be * xs, be * xc + al * xs);
+            (yr[k], yi[k]) = (c.re, c.im);
+            (yr[nh + k], yi[nh + k]) = (sn.re, sn.im);
+        }
+        let (re, im) = match first {
+            true => (&mut work.sv, &mut work.sv_im),
+            false => (&mut work.suv, &mut work.suv_im),
+        };
+        self.fourier.synthesize(yr, &mut re[s * m..(s + 1) * m]);
+        self.fourier.synthesize(yi, &mut im[s * m..(s + 1) * m]);
+    }
+
+    /// `work.su`: the derivative of every signal of `a` along `u` (the parameter
+    /// direction only moves the signals whose order is that parameter).
+    fn set_direction(&mut self, u: Along, omega: f64, a: &[f64], work: &mut BilinearWork) {
         let m = self.m;
-        work.suv.fill(0.0);
         match u {
             Along::Coeff(k) => {
                 work.unit.fill(0.0);
@@ -153,12 +321,10 @@ impl<M: Model> Balance<'_, M> {
                 work.unit = unit;
             }
             Along::Omega => {
-                // every factor (ikΩ)^q moves by (q/Ω)(ikΩ)^q
                 for s in 0..self.nsig {
                     let f = self.orders[s] / omega;
                     for j in 0..m {
                         work.su[s * m + j] = f * self.sig[s * m + j];
-                        work.suv[s * m + j] = f * work.sv[s * m + j];
                     }
                 }
             }
@@ -168,11 +334,35 @@ impl<M: Model> Balance<'_, M> {
                 for s in 0..self.nsig {
                     if model.signals()[s].order == Order::Param(index) {
                         self.signal_of(s, a, omega, true, &mut work.su[s * m..(s + 1) * m]);
-                        self.signal_of(s, v, omega, true, &mut work.suv[s * m..(s + 1) * m]);
                     }
                 }
             }
         }
+    }
+
+    /// `wᴴ D_v D_u R` for a complex `v` (both parts' signals set in `work`).
+    fn complex_pass(
+        &mut self,
+        u: Along,
+        omega: f64,
+        w: &[Complex64],
+        work: &mut BilinearWork,
+    ) -> Complex64 {
+        // wᴴ (x_re + i x_im) with w = w_re + i w_im
+        let mut acc = Complex64::new(0.0, 0.0);
+        for imag in [false, true] {
+            self.pass(u, omega, imag, work);
+            let unit = if imag { Complex64::new(0.0, 1.0) } else { Complex64::new(1.0, 0.0) };
+            let s: Complex64 = work.out.iter().zip(w).map(|(&x, y)| y.conj() * x).sum();
+            acc += unit * s;
+        }
+        acc
+    }
+
+    /// The projected `D_v D_u R` into `work.out`, `v`'s signals from `sv`/`suv` (or
+    /// their imaginary parts), `a`'s from the filled signals and `su`.
+    fn pass(&mut self, u: Along, omega: f64, imag: bool, work: &mut BilinearWork) {
+        let m = self.m;
         let (d_omega, d_param) = match u {
             Along::Omega => (1.0, None),
             Along::Param(i) => (0.0, Some(i)),
@@ -182,10 +372,14 @@ impl<M: Model> Balance<'_, M> {
             *h = HyperDual64::new(p, 0.0, if Some(i) == d_param { 1.0 } else { 0.0 }, 0.0);
         }
         let h_omega = HyperDual64::new(omega * self.period, 0.0, d_omega * self.period, 0.0);
+        let (sv, suv) = match imag {
+            false => (&work.sv, &work.suv),
+            true => (&work.sv_im, &work.suv_im),
+        };
         for j in 0..m {
             for s in 0..self.nsig {
                 let i = s * m + j;
-                work.h_sig[s] = HyperDual64::new(self.sig[i], work.sv[i], work.su[i], work.suv[i]);
+                work.h_sig[s] = HyperDual64::new(self.sig[i], sv[i], work.su[i], suv[i]);
             }
             self.model.residual(
                 &work.h_params,
@@ -199,7 +393,6 @@ impl<M: Model> Balance<'_, M> {
             }
         }
         self.project(&mut work.out);
-        work.out.iter().zip(w).map(|(x, y)| x * y).sum()
     }
 }
 

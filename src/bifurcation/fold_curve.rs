@@ -12,6 +12,12 @@ use super::{CurveEnd, Cusp, FoldPoint, TurnKind};
 /// car's curve).
 const CUSP_OMEGA_TANGENT: f64 = 1e-6;
 use crate::continuation::tracer::{dot, LOCATE_ITER};
+
+/// How close (relative to Ω) a torus frequency may come to 0 or Ω/2 before the
+/// curve ends at a strong resonance: the two exponents `±iω` (or `iω` and its copy
+/// `i(Ω - ω)`) are then within `2·RESONANCE_GAP·Ω` of each other and the bordered
+/// `T(iω)` nearly doubly singular.
+const RESONANCE_GAP: f64 = 1e-3;
 use crate::continuation::{AmplitudeBound, SweepOptions};
 use crate::model::Model;
 use crate::outputs::OutputEval;
@@ -57,7 +63,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         let n = sys.n;
         sys.init_borders(a, omega, p)?;
         let mut y = sys.scaled(a, omega, p);
-        let mut e_p = vec![0.0; n + 2];
+        let mut e_p = vec![0.0; sys.dim()];
         e_p[n + 1] = 1.0;
         let target = y[n + 1];
         sys.correct(&mut y, &e_p, target, opts.max_iter.max(LOCATE_ITER))
@@ -86,7 +92,13 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         let coeffs = self.sys.coeffs(y);
         let mut outputs = Vec::new();
         self.out.points(&coeffs, &mut outputs);
-        FoldPoint { omega: self.sys.omega(y), value: self.sys.value(y), coeffs, outputs }
+        FoldPoint {
+            omega: self.sys.omega(y),
+            value: self.sys.value(y),
+            torus_frequency: self.sys.torus_frequency(y),
+            coeffs,
+            outputs,
+        }
     }
 
     fn accept(&mut self, y: Vec<f64>, t: Vec<f64>) {
@@ -104,19 +116,36 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         [(w0 / s.so, w1 / s.so), (u0.min(u1), u0.max(u1))]
     }
 
-    /// The first bound `y` is beyond, as (component, bound value).
+    /// The bound the step from the last node to `y` crosses first, as (component,
+    /// bound value): where a curve leaves through a corner of the (Ω, P) box, the
+    /// other bound is crossed later and landing on it would leave the box.
     fn beyond(&self, y: &[f64]) -> Option<(usize, f64)> {
         let n = self.sys.n;
+        let from = self.nodes.last().map(|nd| &nd.y);
+        let mut first: Option<(f64, usize, f64)> = None;
         for (k, (lo, hi)) in self.bounds().into_iter().enumerate() {
             let v = y[n + k];
-            if v > hi {
-                return Some((n + k, hi));
-            }
-            if v < lo {
-                return Some((n + k, lo));
+            let b = if v > hi {
+                hi
+            } else if v < lo {
+                lo
+            } else {
+                continue;
+            };
+            // the fraction of the step at which it crosses
+            let f = from.map_or(1.0, |y0| {
+                let d = v - y0[n + k];
+                if d != 0.0 {
+                    (b - y0[n + k]) / d
+                } else {
+                    1.0
+                }
+            });
+            if first.is_none_or(|(g, _, _)| f < g) {
+                first = Some((f, n + k, b));
             }
         }
-        None
+        first.map(|(_, k, b)| (k, b))
     }
 
     /// One step: a point accepted, or the end of the curve.
@@ -193,6 +222,9 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
             if self.beyond_bound() {
                 return Step::Ended(CurveEnd::AmplitudeBound);
             }
+            if self.resonant() {
+                return Step::Ended(CurveEnd::StrongResonance);
+            }
             return Step::Point(cusp);
         }
     }
@@ -207,6 +239,18 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
             AmplitudeBound::Absolute(b) => p.outputs.iter().any(|o| o.max_abs > b),
             AmplitudeBound::None => false,
         }
+    }
+
+    /// A torus curve whose torus frequency came within `RESONANCE_GAP · Ω` of 0 or
+    /// Ω/2: there the pair of multipliers reaches +1 or −1 and the curve meets a fold
+    /// or a period-doubling curve (a strong resonance), where `T(iω)` stops
+    /// characterising the torus.
+    fn resonant(&self) -> bool {
+        let Some(p) = self.points.last() else { return false };
+        p.torus_frequency.is_some_and(|w| {
+            let r = w / p.omega;
+            !(RESONANCE_GAP..=0.5 - RESONANCE_GAP).contains(&r)
+        })
     }
 
     /// Back near the first point after going round: an isola (a closed fold curve).
@@ -227,7 +271,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         let yl = self.nodes[last].y.clone();
         let f = (b - yl[k]) / (y[k] - yl[k]);
         let mut yb: Vec<f64> = yl.iter().zip(y).map(|(a, c)| a + f * (c - a)).collect();
-        let mut e = vec![0.0; n + 2];
+        let mut e = vec![0.0; self.sys.dim()];
         e[k] = 1.0;
         match self.sys.correct(&mut yb, &e, b, self.opts.max_iter.max(LOCATE_ITER)) {
             Ok(_) => {

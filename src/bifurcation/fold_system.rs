@@ -22,6 +22,7 @@
 //! positive values, the logarithm (so that steps are relative in `P`).
 
 use super::period_two::{embedding, odd_harmonics};
+use super::torus::TorusTest;
 use crate::balance::{Balance, BilinearWork};
 use crate::continuation::tracer::{dot, no_convergence, stalling};
 use crate::linalg::DenseLu;
@@ -99,6 +100,14 @@ pub(crate) enum TestMatrix<'m, M: Model> {
     /// The odd-harmonic block of the Jacobian of the balance in Ω/2 at the period-1
     /// solution (a multiplier −1): period doubling.
     OddBlock(Box<OddBlock<'m, M>>),
+    /// Hill's operator `T(iω)`, the torus frequency ω one more unknown (a pair of
+    /// multipliers `e^{±2πiω/Ω}` on the unit circle): Neimark–Sacker. Complex, so
+    /// not through [`FoldSystem::fill_test`] but [`FoldSystem::torus_rows`].
+    Torus {
+        test: Box<TorusTest>,
+        /// ω at the start point.
+        start: f64,
+    },
 }
 
 /// The period-2 balance of a period-doubling curve and its buffers.
@@ -213,10 +222,36 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         self
     }
 
-    /// The scaled test matrix at the point in `self.a` and `(Ω, P)` into `out`
-    /// (`nt × nt`), and the scaled Jacobian (and residual `self.r`) into the top-left
-    /// block of `lu_k`.
-    fn fill_test(&mut self, omega: f64, p: f64, mut out: MatMut<'_, f64>) {
+    /// The system of a torus curve started at torus frequency `torus` (the
+    /// imaginary part of the critical Floquet exponent).
+    pub fn torus(mut self, torus: f64) -> crate::error::Result<Self> {
+        let test = Box::new(TorusTest::new(&self.bal)?);
+        self.test = TestMatrix::Torus { test, start: torus };
+        self.lu_k = DenseLu::new(self.n + 3);
+        self.rhs = vec![0.0; self.n + 3];
+        Ok(self)
+    }
+
+    /// The number of unknowns (and equations, with the arc-length condition):
+    /// coefficients, Ω, the parameter, and the torus frequency of a torus curve.
+    pub fn dim(&self) -> usize {
+        match self.test {
+            TestMatrix::Torus { .. } => self.n + 3,
+            _ => self.n + 2,
+        }
+    }
+
+    /// The torus frequency ω of `y` (torus curves only).
+    pub fn torus_frequency(&self, y: &[f64]) -> Option<f64> {
+        match self.test {
+            TestMatrix::Torus { .. } => Some(y[self.n + 2] * self.so),
+            _ => None,
+        }
+    }
+
+    /// The scaled Jacobian and residual `self.r` at the point in `self.a` into the
+    /// top-left block of `lu_k`.
+    fn fill_jacobian(&mut self, omega: f64) {
         let n = self.n;
         let cs = self.sa / self.sr;
         let mut kk = self.lu_k.matrix_mut();
@@ -226,7 +261,18 @@ impl<'m, M: Model> FoldSystem<'m, M> {
                 kk[(i, j)] *= cs;
             }
         }
+    }
+
+    /// The scaled test matrix at the point in `self.a` and `(Ω, P)` into `out`
+    /// (`nt × nt`), and the scaled Jacobian (and residual `self.r`) into the top-left
+    /// block of `lu_k`.
+    fn fill_test(&mut self, omega: f64, p: f64, mut out: MatMut<'_, f64>) {
+        let n = self.n;
+        let cs = self.sa / self.sr;
+        self.fill_jacobian(omega);
+        let kk = self.lu_k.matrix_mut();
         match &mut self.test {
+            TestMatrix::Torus { .. } => {}
             TestMatrix::Jacobian => {
                 for j in 0..n {
                     for i in 0..n {
@@ -252,6 +298,9 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         let mut y: Vec<f64> = a.iter().map(|v| v / self.sa).collect();
         y.push(omega / self.so);
         y.push(self.scale.forward(p) / self.sp);
+        if let TestMatrix::Torus { start, .. } = self.test {
+            y.push(start / self.so);
+        }
         y
     }
 
@@ -333,6 +382,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
     /// matrix (unscaled).
     fn psi_gradient(&mut self, omega: f64) -> (f64, f64) {
         match &mut self.test {
+            TestMatrix::Torus { .. } => (0.0, 0.0), // complex: `torus_rows`
             TestMatrix::Jacobian => self.bal.bilinear_gradient(
                 &self.a,
                 omega,
@@ -376,31 +426,32 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         target: f64,
     ) -> Result<f64, String> {
         let n = self.n;
+        let d = self.dim();
         self.iterations += 1;
         let (omega, p) = self.unscale(y)?;
-        let g = self.test_function(omega, p)?;
+        // rows n..d-1: the test function (one real row, or two for a complex one)
+        if matches!(self.test, TestMatrix::Torus { .. }) {
+            self.torus_rows(y, omega, p)?;
+        } else {
+            self.real_row(omega, p)?;
+        }
         self.bal.d_omega(&self.a, omega, &mut self.d_omega);
         self.bal.d_param(&self.a, omega, self.param, &mut self.d_param);
-        let (psi_o, psi_p) = self.psi_gradient(omega);
-        // ψ was of the raw Jacobian; g belongs to the scaled one: -(s_a/s_r) ψ_z,
-        // then by the chain rule into the scaled unknowns.
-        let cs = self.sa / self.sr;
         let dpy = self.dp_dy(p);
         let mut k = self.lu_k.matrix_mut();
         for i in 0..n {
             k[(i, n)] = self.d_omega[i] * self.so / self.sr;
             k[(i, n + 1)] = self.d_param[i] * dpy / self.sr;
-            k[(n, i)] = -cs * self.sa * self.d_a[i];
-            k[(n + 1, i)] = border[i];
+            for j in n + 2..d {
+                k[(i, j)] = 0.0; // R does not depend on the torus frequency
+            }
             self.rhs[i] = self.r[i] / self.sr;
         }
-        k[(n, n)] = -cs * self.so * psi_o;
-        k[(n, n + 1)] = -cs * dpy * psi_p;
-        k[(n + 1, n)] = border[n];
-        k[(n + 1, n + 1)] = border[n + 1];
-        self.rhs[n] = g;
-        self.rhs[n + 1] = dot(border, y) - target;
-        self.last_residual = self.rhs[..=n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for j in 0..d {
+            k[(d - 1, j)] = border[j];
+        }
+        self.rhs[d - 1] = dot(border, y) - target;
+        self.last_residual = self.rhs[..d - 1].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !self.rhs.iter().all(|v| v.is_finite()) {
             return Err(format!("non-finite residual at Ω = {omega:.6}"));
         }
@@ -418,6 +469,64 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             return Err(format!("non-finite Newton step near Ω = {omega:.6}"));
         }
         Ok(dn)
+    }
+
+    /// Row `n` of the Newton matrix and its right-hand side for a real test function
+    /// (folds, period doubling); the scaled Jacobian into the top-left block.
+    fn real_row(&mut self, omega: f64, p: f64) -> Result<(), String> {
+        let n = self.n;
+        let g = self.test_function(omega, p)?;
+        let (psi_o, psi_p) = self.psi_gradient(omega);
+        // ψ was of the raw Jacobian; g belongs to the scaled one: -(s_a/s_r) ψ_z,
+        // then by the chain rule into the scaled unknowns.
+        let cs = self.sa / self.sr;
+        let dpy = self.dp_dy(p);
+        let mut k = self.lu_k.matrix_mut();
+        for i in 0..n {
+            k[(n, i)] = -cs * self.sa * self.d_a[i];
+        }
+        k[(n, n)] = -cs * self.so * psi_o;
+        k[(n, n + 1)] = -cs * dpy * psi_p;
+        self.rhs[n] = g;
+        Ok(())
+    }
+
+    /// Rows `n`, `n + 1` (real and imaginary parts of the complex test function) of
+    /// a torus curve's Newton matrix, with the column of the torus frequency; the
+    /// scaled Jacobian into the top-left block.
+    fn torus_rows(&mut self, y: &[f64], omega: f64, p: f64) -> Result<(), String> {
+        let n = self.n;
+        let torus = y[n + 2] * self.so;
+        if !(torus > 0.0 && torus < 0.5 * omega) {
+            return Err(format!(
+                "the torus frequency left (0, Ω/2) (ω = {torus:.6e} at Ω = {omega:.6})"
+            ));
+        }
+        let cs = self.sa / self.sr;
+        let dpy = self.dp_dy(p);
+        self.fill_jacobian(omega);
+        let TestMatrix::Torus { test, .. } = &mut self.test else {
+            return Err("not a torus curve".into());
+        };
+        let g = test.evaluate(&mut self.bal, &self.a, omega, torus, cs)?;
+        let grad = test.gradient(&mut self.bal, &self.a, omega, torus, self.param);
+        let mut k = self.lu_k.matrix_mut();
+        for (i, da) in test.d_a.iter().enumerate() {
+            let z = -cs * self.sa * da;
+            k[(n, i)] = z.re;
+            k[(n + 1, i)] = z.im;
+        }
+        for (j, (dz, s)) in [(grad.omega, self.so), (grad.param, dpy), (grad.torus, self.so)]
+            .into_iter()
+            .enumerate()
+        {
+            let z = -cs * s * dz;
+            k[(n, n + j)] = z.re;
+            k[(n + 1, n + j)] = z.im;
+        }
+        self.rhs[n] = g.re;
+        self.rhs[n + 1] = g.im;
+        Ok(())
     }
 
     /// Newton from `y` to the fold curve on `border · y = target`; iterations used.
@@ -453,9 +562,9 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 
     /// The unit tangent from the LU of the last Newton step (oriented along its border).
     pub fn tangent(&mut self) -> Vec<f64> {
-        let n = self.n;
-        let mut t = vec![0.0; n + 2];
-        t[n + 1] = 1.0;
+        let d = self.dim();
+        let mut t = vec![0.0; d];
+        t[d - 1] = 1.0;
         self.lu_k.solve(&mut t);
         let norm = dot(&t, &t).sqrt();
         t.iter_mut().for_each(|v| *v /= norm);
@@ -464,6 +573,10 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 
     /// Renew the borders from the null vectors of the last test function.
     pub fn renew_borders(&mut self) {
+        if let TestMatrix::Torus { test, .. } = &mut self.test {
+            test.renew_borders();
+            return;
+        }
         let nv = dot(&self.v, &self.v).sqrt();
         let nw = dot(&self.w, &self.w).sqrt();
         if nv > 0.0 && nw > 0.0 && nv.is_finite() && nw.is_finite() {
@@ -481,6 +594,10 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         let nt = self.nt;
         self.bal.set_param(self.param, p);
         self.a.copy_from_slice(a);
+        if let TestMatrix::Torus { test, start } = &mut self.test {
+            let cs = self.sa / self.sr;
+            return test.init_borders(&mut self.bal, a, omega, *start, cs);
+        }
         let mut lu = DenseLu::new(nt);
         self.fill_test(omega, p, lu.matrix_mut());
         if lu.factor().is_nan() {

@@ -27,6 +27,7 @@
 mod fold_curve;
 mod fold_system;
 mod period_two;
+mod torus;
 
 pub use period_two::{break_symmetry, embed, period_two, PeriodDoubled, SymmetryBroken};
 
@@ -45,6 +46,9 @@ pub struct FoldPoint {
     pub omega: f64,
     /// The parameter's value.
     pub value: f64,
+    /// On a torus curve: the torus frequency ω (the critical Floquet exponents are
+    /// `±iω`, the second frequency of the quasi-periodic response born there).
+    pub torus_frequency: Option<f64>,
     /// Fourier coefficients at the fold.
     pub coeffs: Vec<f64>,
     /// Per output, in model output order.
@@ -113,6 +117,9 @@ pub enum CurveEnd {
     /// The response at the fold exceeded the amplitude bound of the options (a fold
     /// climbing towards a runaway branch).
     AmplitudeBound,
+    /// A torus curve's torus frequency reached 0 or Ω/2 (a strong resonance: the
+    /// curve meets a fold or a period-doubling curve there).
+    StrongResonance,
     /// The corrector failed at the smallest step, or another failure; the reason.
     Stalled(String),
     /// An observer stopped the run.
@@ -126,6 +133,7 @@ impl std::fmt::Display for CurveEnd {
             CurveEnd::LeftOmegaRange => write!(f, "left the frequency range"),
             CurveEnd::Closed => write!(f, "closed"),
             CurveEnd::AmplitudeBound => write!(f, "amplitude bound"),
+            CurveEnd::StrongResonance => write!(f, "strong resonance"),
             CurveEnd::Stalled(why) => write!(f, "stalled: {why}"),
             CurveEnd::Stopped => write!(f, "stopped"),
         }
@@ -207,7 +215,8 @@ pub enum FoldEvent {
 }
 
 /// What a two-parameter curve follows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Boundary {
     /// Folds of the amplitude–frequency curve (jumps).
@@ -216,6 +225,9 @@ pub enum Boundary {
     /// Period-doubling points of it (a Floquet multiplier −1), found by the period-1
     /// sweeps' stability analysis at the ends of the range.
     PeriodDoubling,
+    /// Neimark–Sacker (torus) points of it (a pair of multipliers leaves the unit
+    /// circle away from ±1: a quasi-periodic response is born), found likewise.
+    Torus,
 }
 
 impl std::fmt::Display for Boundary {
@@ -223,6 +235,7 @@ impl std::fmt::Display for Boundary {
         f.write_str(match self {
             Boundary::Fold => "fold",
             Boundary::PeriodDoubling => "period doubling",
+            Boundary::Torus => "torus",
         })
     }
 }
@@ -237,12 +250,17 @@ fn start_points<M: Model>(
 ) -> Vec<crate::results::Fold> {
     match boundary {
         Boundary::Fold => curve.folds.iter().filter(|f| f.located).cloned().collect(),
-        Boundary::PeriodDoubling => {
+        Boundary::PeriodDoubling | Boundary::Torus => {
+            use crate::results::BifurcationKind;
+            let kind = match boundary {
+                Boundary::Torus => BifurcationKind::Torus,
+                _ => BifurcationKind::PeriodDoubling,
+            };
             let so = crate::corrector::SolveOptions { harmonics, ..Default::default() };
             curve
                 .bifurcations
                 .iter()
-                .filter(|b| b.kind == crate::results::BifurcationKind::PeriodDoubling && b.located)
+                .filter(|b| b.kind == kind && b.located)
                 .filter_map(|b| {
                     let near = curve.points.get(b.after)?;
                     let sol =
@@ -348,7 +366,9 @@ pub fn fold_curves_with<M: Model + Clone>(
     sweep_opts.stability = match opts.boundary {
         // folds do not depend on stability; period doubling is a change of it
         Boundary::Fold => None,
-        Boundary::PeriodDoubling => Some(sweep_opts.stability.unwrap_or_default()),
+        Boundary::PeriodDoubling | Boundary::Torus => {
+            Some(sweep_opts.stability.unwrap_or_default())
+        }
     };
     let scale = if lo > 0.0 && hi / lo >= 10.0 { ParamScale::Log } else { ParamScale::Linear };
     let mut res = FoldCurves {
@@ -405,8 +425,25 @@ pub fn fold_curves_with<M: Model + Clone>(
         m.set_param_value(param, v);
         let bal = Balance::new(model, sweep_opts.harmonics)?;
         let mut sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
-        if opts.boundary == Boundary::PeriodDoubling {
-            sys = sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?);
+        let ci = res.curves.len();
+        match opts.boundary {
+            Boundary::Fold => {}
+            Boundary::PeriodDoubling => {
+                sys = sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?);
+            }
+            Boundary::Torus => match torus_frequency(&m, sweep_opts.harmonics, &fold) {
+                Ok(w) => sys = sys.torus(w)?,
+                Err(why) => {
+                    res.curves.push(FoldCurve {
+                        start: end,
+                        start_fold,
+                        points: Vec::new(),
+                        ended: CurveEnd::Stalled(why),
+                    });
+                    stopped = observer(&FoldEvent::CurveEnd(ci), &res) == Control::Stop;
+                    continue;
+                }
+            },
         }
         sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
         sys.so = w1 - w0;
@@ -415,7 +452,6 @@ pub fn fold_curves_with<M: Model + Clone>(
         sys.omega_range = (w0, w1);
         sys.param_range = (lo, hi);
         let up = (end == RangeEnd::From) == (to > from);
-        let ci = res.curves.len();
         let mut tracer = match FoldCurveTracer::new(
             sys,
             model,
@@ -453,7 +489,7 @@ pub fn fold_curves_with<M: Model + Clone>(
                     res.curves[ci].points.push(tracer.points[k].clone());
                     if let Some(mut c) = cusp {
                         c.curve = ci;
-                        if opts.boundary == Boundary::PeriodDoubling {
+                        if opts.boundary != Boundary::Fold {
                             c.kind = TurnKind::Turn;
                         }
                         res.cusps.push(c);
@@ -481,6 +517,26 @@ pub fn fold_curves_with<M: Model + Clone>(
         }
     }
     Ok(res)
+}
+
+/// The torus frequency at a located torus point: the imaginary part of the central
+/// exponent nearest the imaginary axis away from 0 and ±Ω/2, by a full Hill analysis.
+fn torus_frequency<M: Model>(
+    model: &M,
+    harmonics: usize,
+    at: &crate::results::Fold,
+) -> std::result::Result<f64, String> {
+    let failed = |e: Error| format!("no Floquet exponents at the torus point: {e}");
+    let mut bal = Balance::new(model, harmonics).map_err(failed)?;
+    let mut hill = crate::stability::Hill::new(model, harmonics).map_err(failed)?;
+    let omega = at.omega;
+    let f = hill.analyse(&mut bal, &at.coeffs, omega, &Default::default()).map_err(failed)?;
+    f.exponents
+        .iter()
+        .filter(|l| l.im.abs() > 1e-6 * omega && (l.im.abs() - 0.5 * omega).abs() > 1e-6 * omega)
+        .min_by(|a, b| a.re.abs().total_cmp(&b.re.abs()))
+        .map(|l| l.im.abs())
+        .ok_or_else(|| format!("no complex pair of exponents at the torus point Ω = {omega:.6}"))
 }
 
 /// The residual max-norm at zero response (the forcing) at Ω: the reference force.

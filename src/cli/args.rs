@@ -110,8 +110,10 @@ pub enum Command {
         /// Highest forcing frequency, rad/s.
         #[arg(long, value_name = "W1", default_value_t = 100.0, allow_negative_numbers = true)]
         omega_to: f64,
-        /// What the curves follow: `fold` (jumps), or `period-doubling` (a Floquet
-        /// multiplier −1; found by the stability analysis of the end sweeps).
+        /// What the curves follow: `fold` (jumps), `period-doubling` (a Floquet
+        /// multiplier −1) or `torus` (a pair of multipliers leaving the unit circle
+        /// elsewhere, Neimark–Sacker); the last two are found by the stability
+        /// analysis of the end sweeps.
         #[arg(long, value_enum, value_name = "KIND", default_value = "fold")]
         boundary: crate::bifurcation::Boundary,
         /// Harmonics, overrides, output files and continuation settings (`--plot`

@@ -216,8 +216,8 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
     }
     if let Some(path) = &files.plot {
         let title = format!(
-            "{}: fold curves in the (Ω, {}) plane, N = {}",
-            f.model, f.parameter, f.harmonics
+            "{}: {} curves in the (Ω, {}) plane, N = {}",
+            f.model, f.boundary, f.parameter, f.harmonics
         );
         let svg = report::folds_svg(f, &title).map_err(Failure::failed)?;
         report::write_file(path, &svg).map_err(Failure::failed)?;

@@ -42,9 +42,14 @@ pub fn curve_csv(curve: &Curve) -> String {
 }
 
 /// The CSV of fold curves: `curve,omega,<parameter>,<out>_max_abs,...`, one row per
-/// point, curve after curve (each in arc-length order); the cusps are in the JSON.
+/// point, curve after curve (each in arc-length order); the cusps are in the JSON. A
+/// torus curve has a `torus_frequency` column after the parameter's.
 pub fn folds_csv(f: &FoldCurves) -> String {
+    let torus = f.boundary == crate::bifurcation::Boundary::Torus;
     let mut s = format!("curve,omega,{}", f.parameter);
+    if torus {
+        s.push_str(",torus_frequency");
+    }
     for name in &f.output_names {
         let _ = write!(s, ",{name}_max_abs");
     }
@@ -52,6 +57,10 @@ pub fn folds_csv(f: &FoldCurves) -> String {
     for (i, c) in f.curves.iter().enumerate() {
         for p in &c.points {
             let _ = write!(s, "{i},{},{}", p.omega, p.value);
+            if torus {
+                let _ =
+                    write!(s, ",{}", p.torus_frequency.map_or(String::new(), |w| w.to_string()));
+            }
             for o in &p.outputs {
                 let _ = write!(s, ",{}", o.max_abs);
             }

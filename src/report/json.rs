@@ -131,7 +131,13 @@ pub fn folds_json(f: &FoldCurves) -> Value {
         }
         Value::Object(m)
     };
-    let point = |p: &FoldPoint| json!({ "omega": p.omega, "value": p.value, "outputs": outputs(&p.outputs) });
+    let point = |p: &FoldPoint| {
+        let mut v = json!({ "omega": p.omega, "value": p.value, "outputs": outputs(&p.outputs) });
+        if let (Some(w), Some(m)) = (p.torus_frequency, v.as_object_mut()) {
+            m.insert("torus_frequency".into(), json!(w));
+        }
+        v
+    };
     let curves: Vec<Value> = f
         .curves
         .iter()

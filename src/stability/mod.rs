@@ -446,6 +446,46 @@ impl Hill {
         f
     }
 
+    /// Prepare the exact operator `T(λ)` at the solution `coeffs` (parameters as set
+    /// in `bal`): the projections and the polynomial part with fractional orders
+    /// left to [`Hill::operator`]'s exact factors. For test functions that need `T`
+    /// at a given `λ` rather than its roots (the torus curves of
+    /// [`crate::bifurcation`]).
+    pub(crate) fn prepare_operator<M: Model>(
+        &mut self,
+        bal: &mut Balance<'_, M>,
+        coeffs: &[f64],
+        omega: f64,
+    ) -> Result<()> {
+        self.project(bal, coeffs, omega)?;
+        self.assemble_polynomial(bal.params(), omega, false);
+        Ok(())
+    }
+
+    /// `T(λ)` after [`Hill::prepare_operator`]: row-major, `n × n` (`n` the balance's
+    /// unknowns; `T(0)` is the balance Jacobian).
+    pub(crate) fn operator(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        lambda: Complex64,
+    ) -> &[Complex64] {
+        self.eval_t(params, omega, lambda, true);
+        &self.t
+    }
+
+    /// `T'(λ) v` after [`Hill::prepare_operator`].
+    pub(crate) fn derivative_applied(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        lambda: Complex64,
+        v: &[Complex64],
+    ) -> &[Complex64] {
+        self.apply_t(params, omega, lambda, true, v, false);
+        &self.dtv
+    }
+
     /// Forget the tracked exponents: the next [`Hill::track`] analyses in full.
     pub fn reset(&mut self) {
         self.state = None;
