@@ -6,7 +6,11 @@
 //! fold it found across the range ([`fold_system`] is the extended system,
 //! [`fold_curve`] the continuation). A fold curve that turns back in `P` does so at a
 //! cusp: beyond it that pair of folds, and the jumps between them, no longer exist.
-//! A curve that comes back to the end it started from is traced once.
+//! A curve that comes back to the end it started from is traced once. With
+//! [`Boundary::PeriodDoubling`] or [`Boundary::Torus`] the same machinery follows the
+//! period-doubling or torus points of the sweeps instead (the test matrix is then the
+//! odd-harmonic block of the period-2 balance, or Hill's operator `T(iω)` with the
+//! torus frequency ω as one more unknown: [`torus`]).
 //!
 //! ```
 //! use ihbm::bifurcation::{fold_curves, FoldCurveOptions};

@@ -47,7 +47,7 @@ struct TdPlan {
 struct FigurePlan {
     id: String,
     /// A fold figure: the parameter and its range (each "curve" is then one analysis).
-    folds: Option<(String, f64, f64)>,
+    folds: Option<(String, f64, f64, crate::bifurcation::Boundary)>,
     title: String,
     unit: FreqUnit,
     outputs: Vec<String>,
@@ -142,7 +142,10 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
         }
         plans.push(FigurePlan {
             title: fig.title.clone().unwrap_or_else(|| id.clone()),
-            folds: fig.folds.as_ref().map(|f| (f.param.get_ref().clone(), f.from, f.to)),
+            folds: fig
+                .folds
+                .as_ref()
+                .map(|f| (f.param.get_ref().clone(), f.from, f.to, f.boundary)),
             id,
             unit: fig.unit.unwrap_or(study.unit),
             outputs: fig
@@ -239,15 +242,9 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
                 }
                 Job::Folds(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let (param, from, to) = p.folds.clone().unwrap_or_default();
-                    let range = FoldRange {
-                        param: &param,
-                        from,
-                        to,
-                        omega: p.range,
-                        boundary: crate::bifurcation::Boundary::Fold,
-                    };
-                    let label = format!("{}: fold curves, {}", p.id, c.label);
+                    let (param, from, to, boundary) = p.folds.clone().unwrap_or_default();
+                    let range = FoldRange { param: &param, from, to, omega: p.range, boundary };
+                    let label = format!("{}: {boundary} curves, {}", p.id, c.label);
                     let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
                         pb.set_message(progress::fold_message(&label, e, fc));
                         Control::Continue
@@ -478,10 +475,10 @@ fn write_fold_figure<'a>(
         let vary = study.figures[f].vary.as_ref().map(|v| v.get_ref().clone());
         if let (Some(vary), true) = (vary, p.curves.len() > 1) {
             let param = p.folds.as_ref().map_or("", |x| x.0.as_str());
-            let title = format!("{}: the least cusp of {param} against {vary}", p.title);
+            let title = format!("{}: the onset in {param} against {vary}", p.title);
             let points: Vec<(f64, f64)> =
-                folds.iter().filter_map(|m| m.least_cusp().map(|c| (m.value, c.value))).collect();
-            let svg = report::trend_svg(&points, &vary, &format!("{param} at the cusp"), &title);
+                folds.iter().filter_map(|m| m.onset().map(|c| (m.value, c.value))).collect();
+            let svg = report::trend_svg(&points, &vary, &format!("{param} at the onset"), &title);
             write_svg(dir, format!("{}_cusps.svg", p.id), svg, &p.id, out);
         }
     }

@@ -27,6 +27,7 @@
 //! # or, instead of amplitude–frequency curves, fold curves in the (Ω, P) plane (one
 //! # analysis per value of `vary`; no checks or timedomain):
 //! # folds = { param = "F", from = 0.005, to = 0.2 }
+//! # (boundary = "period-doubling" or "torus" in it follows those points instead)
 //!
 //! [[figure.check]]               # a claim checked against the curves
 //! kind = "peak_omega"            # peak | peak_omega | folds | converges | timedomain
@@ -149,6 +150,9 @@ pub struct FoldSpec {
     pub from: f64,
     /// The other end.
     pub to: f64,
+    /// What the curves follow: `"fold"` (default), `"period-doubling"` or `"torus"`.
+    #[serde(default)]
+    pub boundary: crate::bifurcation::Boundary,
 }
 
 /// Time integrations to compare with the harmonic balance (paper Fig. 6).

@@ -4,7 +4,7 @@
 use super::claims::{evaluate, Member, TdRow};
 use super::runner::StudyOutcome;
 use super::spec::{FigureSpec, Study};
-use crate::bifurcation::{Cusp, FoldCurves, TurnKind};
+use crate::bifurcation::{Boundary, Cusp, FoldCurves, TurnKind};
 use crate::report::{convergence_line, curve_facts};
 use std::fmt::Write;
 
@@ -43,12 +43,19 @@ pub struct FoldMember<'a> {
 }
 
 impl FoldMember<'_> {
-    /// The cusp with the least parameter value: where jumps begin as it grows.
-    pub fn least_cusp(&self) -> Option<&Cusp> {
+    /// The located turning point with the least parameter value: for fold curves
+    /// the least cusp (where jumps begin as the parameter grows), for period-doubling
+    /// and torus curves the least turn (where the unstable interval they bound
+    /// appears).
+    pub fn onset(&self) -> Option<&Cusp> {
+        let kind = match self.folds.boundary {
+            Boundary::Fold => TurnKind::Cusp,
+            Boundary::PeriodDoubling | Boundary::Torus => TurnKind::Turn,
+        };
         self.folds
             .cusps
             .iter()
-            .filter(|c| c.kind == TurnKind::Cusp && c.located)
+            .filter(|c| c.kind == kind && c.located)
             .min_by(|a, b| a.value.total_cmp(&b.value))
     }
 }
@@ -79,14 +86,19 @@ fn fold_table(s: &mut String, fig: &FigureResult) {
     }
     s.push('\n');
     for m in &fig.folds {
-        if let Some(c) = m.least_cusp() {
+        let (what, turn) = match m.folds.boundary {
+            Boundary::Fold => ("jumps begin", "cusp"),
+            Boundary::PeriodDoubling => ("period doubling begins", "turning point"),
+            Boundary::Torus => ("the quasi-periodic (torus) response begins", "turning point"),
+        };
+        if let Some(c) = m.onset() {
             let _ = writeln!(
                 s,
-                "- **We find** ({}): jumps begin at {} = {:.6e} (cusp at Ω = {:.4} rad/s, N = {}).",
+                "- **We find** ({}): {what} at {} = {:.6e} ({turn} at Ω = {:.4} rad/s, N = {}).",
                 m.label, m.folds.parameter, c.value, c.omega, m.folds.harmonics
             );
         } else {
-            let _ = writeln!(s, "- **We find** ({}): no cusp in the range.", m.label);
+            let _ = writeln!(s, "- **We find** ({}): no {turn} in the range.", m.label);
         }
     }
     s.push('\n');

@@ -40,8 +40,11 @@ fn reference_study_encodes_the_papers_figures() {
     let ids: Vec<&str> = s.figures.iter().map(|f| f.id.get_ref().as_str()).collect();
     let expected = paper();
     let mut want: Vec<&str> = expected.iter().map(|e| e.0).collect();
-    want.extend(["folds_k3", "folds_road"]);
-    assert_eq!(ids, want, "the paper's figures, then the fold curves that answer Fig. 9");
+    want.extend(["folds_k3", "folds_road", "torus_bubble"]);
+    assert_eq!(
+        ids, want,
+        "the paper's figures, the fold curves that answer Fig. 9, the torus curve of the bubble"
+    );
     for (fig, (id, vary, values)) in s.figures.iter().zip(&expected) {
         assert_eq!(fig.vary.as_ref().map(|v| v.get_ref().as_str()), *vary, "{id}");
         assert_eq!(&fig.values, values, "{id}");
@@ -353,4 +356,33 @@ fn values_that_would_fail_later_are_refused_at_validation() {
             assert!(e.contains(n), "{rest}: {e} does not contain {n}");
         }
     }
+}
+
+/// A torus figure (`boundary = "torus"`) follows torus points, not folds: the quarter
+/// car's torus bubble at k3 = 5e6 turns at F ≈ 0.0987 (where sweeps just above find
+/// two torus points and just below none: `tests/continuation/torus_curves.rs`). An
+/// unknown boundary is refused at its position.
+#[test]
+fn torus_figures_follow_torus_points() {
+    let cli = Cli::builtin();
+    let head = "model = \"quarter-car\"\nfrequency = { from = 50.0, to = 80.0 }\n[[figure]]\nid = \"t\"\nparams = { k3 = 5e6 }\n";
+    let bad =
+        format!("{head}folds = {{ param = \"F\", from = 0.09, to = 0.2, boundary = \"tori\" }}\n");
+    let e = study::parse(&bad, "study.toml").unwrap_err().to_string();
+    assert!(e.contains("study.toml:6:") && e.contains("torus"), "{e}");
+    let text =
+        format!("{head}folds = {{ param = \"F\", from = 0.09, to = 0.2, boundary = \"torus\" }}\n");
+    let s = study::parse(&text, "study.toml").unwrap();
+    s.validate(cli.registry()).unwrap();
+    let dir = tmp("torus");
+    let outcome = study::run(&s, cli.registry(), &dir).unwrap();
+    assert!(outcome.failures.is_empty(), "{:#?}", outcome.failures);
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("torus) response begins at F = 9.87"), "{summary}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("t.json")).unwrap()).unwrap();
+    assert_eq!(json["boundary"], "torus");
+    let p = &json["curves"][0]["points"][0];
+    let w = p["torus_frequency"].as_f64().unwrap();
+    assert!(w > 0.0 && w < 0.5 * p["omega"].as_f64().unwrap(), "{p}");
 }
