@@ -47,9 +47,11 @@ pub mod chain;
 pub mod duffing;
 pub mod quadratic;
 pub mod quarter_car;
+pub mod van_der_pol;
 
 pub use base_excited::BaseExcited;
 pub use chain::TwoMassChain;
 pub use duffing::{Duffing, FractionalDuffing};
 pub use quadratic::Quadratic;
 pub use quarter_car::QuarterCar;
+pub use van_der_pol::VanDerPol;

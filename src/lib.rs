@@ -20,6 +20,7 @@
 extern crate self as ihbm;
 
 // The mathematics: builds with `default-features = false`.
+pub mod backbone;
 pub mod balance;
 pub mod bifurcation;
 pub mod continuation;
@@ -78,6 +79,8 @@ pub mod book {
     pub struct Continuation;
     #[doc = include_str!("../book/src/bifurcation.md")]
     pub struct Bifurcation;
+    #[doc = include_str!("../book/src/modes.md")]
+    pub struct Modes;
     #[doc = include_str!("../book/src/timedomain.md")]
     pub struct Timedomain;
     #[doc = include_str!("../book/src/snapshots.md")]

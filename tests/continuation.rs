@@ -4,6 +4,8 @@
 //! One test binary per area (each integration-test binary links the whole crate, and
 //! linking one per file dominated a fresh `cargo test`); the tests are in `tests/continuation/`.
 
+#[path = "continuation/backbones.rs"]
+mod backbones;
 #[path = "continuation/convergence.rs"]
 mod convergence;
 #[path = "continuation/duffing.rs"]

@@ -91,6 +91,8 @@ pub(crate) struct FoldSystem<'m, M: Model> {
     w: Vec<f64>,
     d_a: Vec<f64>,
     rhs: Vec<f64>,
+    /// The bordered test function's right-hand side and solution, `nt + 1`.
+    x: Vec<f64>,
 }
 
 /// The matrix whose singularity the curve follows.
@@ -203,6 +205,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             w: vec![0.0; n],
             d_a: vec![0.0; n],
             rhs: vec![0.0; n + 2],
+            x: vec![0.0; n + 1],
         }
     }
 
@@ -218,6 +221,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         self.lu_m = DenseLu::new(nt + 1);
         self.v = vec![0.0; nt];
         self.w = vec![0.0; nt];
+        self.x = vec![0.0; nt + 1];
         self.test = TestMatrix::OddBlock(Box::new(odd));
         self
     }
@@ -362,7 +366,8 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             km[(nt, nt)] = 0.0;
         }
         let pivots = lu_m.factor();
-        let mut x = vec![0.0; nt + 1];
+        let mut x = std::mem::take(&mut self.x);
+        x.fill(0.0);
         x[nt] = 1.0;
         lu_m.solve(&mut x);
         let g = x[nt];
@@ -371,6 +376,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         x[nt] = 1.0;
         lu_m.solve_transpose(&mut x);
         self.w.copy_from_slice(&x[..nt]);
+        self.x = x;
         self.lu_m = lu_m;
         if pivots.is_nan() || pivots <= 1e-15 {
             return Err(format!("singular bordered test function at Ω = {omega:.6}"));

@@ -121,6 +121,57 @@ pub enum Command {
         #[command(flatten)]
         curve: CurveArgs,
     },
+    /// Continue a nonlinear mode (backbone) from its linear natural frequency to an
+    /// amplitude, every forcing term left out, damping balanced by the extended
+    /// periodic motion concept: frequency and modal damping ratio against amplitude.
+    #[command(after_help = BACKBONE_AFTER_HELP)]
+    Backbone {
+        /// Model name (see `ihbm models`).
+        name: String,
+        /// The amplitude to reach: max |X(t)| of the output X.
+        #[arg(long, value_name = "A", allow_negative_numbers = true)]
+        to: f64,
+        /// The mode, in the order of the linearised natural frequencies (1 = lowest).
+        #[arg(long, value_name = "K", default_value_t = 1)]
+        mode: usize,
+        /// The output whose amplitude is continued to A [default: the first output].
+        #[arg(long, value_name = "X")]
+        output: Option<String>,
+        /// Number of harmonics N (>= 1).
+        #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
+        harmonics: usize,
+        /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
+        #[arg(long = "set", value_name = "P=V")]
+        set: Vec<String>,
+        /// Write the points as CSV.
+        #[arg(long, value_name = "FILE")]
+        csv: Option<PathBuf>,
+        /// Write the backbone as JSON to FILE (`-`: standard output).
+        #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
+        json: Option<String>,
+        /// Draw amplitude against frequency and damping ratio against amplitude (SVG).
+        #[arg(long, value_name = "FILE.svg")]
+        plot: Option<PathBuf>,
+    },
+    /// Solve for a self-excited periodic motion (limit cycle) of a model without
+    /// forcing, near a frequency guess, with its stability.
+    #[command(after_help = CYCLE_AFTER_HELP)]
+    Cycle {
+        /// Model name (see `ihbm models`).
+        name: String,
+        /// Frequency guess, rad/s: the linearised mode nearest it is followed.
+        #[arg(long, value_name = "GUESS", allow_negative_numbers = true)]
+        omega: f64,
+        /// Number of harmonics N (>= 1).
+        #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
+        harmonics: usize,
+        /// Override a parameter, e.g. `--set mu=0.5` (repeatable).
+        #[arg(long = "set", value_name = "P=V")]
+        set: Vec<String>,
+        /// Write JSON to FILE (`-` or no value: standard output).
+        #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
+        json: Option<String>,
+    },
     /// Integrate in time from rest (Caputo derivative from t = 0); steady statistics of
     /// the last 10 forcing periods.
     Simulate {
@@ -268,6 +319,27 @@ JSON: {model, harmonics, parameter, curves: [{points: [{omega, value, outputs}],
 start}], cusps: [{omega, value, outputs, curve, located}], range, omega_range,
 start_folds, stats}. A cusp's value is the least (or greatest) value of P at which a
 slow sweep jumps. The CSV has one row per point: curve,omega,P,<out>_max_abs,...";
+
+const BACKBONE_AFTER_HELP: &str = "\
+Examples:
+  ihbm backbone duffing --to 2 --set c=0 --harmonics 15 --plot b.svg
+  ihbm backbone quarter-car --mode 2 --output y --to 0.05 --json -
+
+JSON: {model, harmonics, mode, points: [{omega, damping, stable, xi, amplitude,
+outputs: {X: {max_abs, mean, amp1}}}], output, to, linear: {omega, damping}, ended,
+stats}. damping is the modal damping ratio D = xi / (2 omega) (0 for a conservative
+model); stable is null (not checked). The CSV has one row per point:
+omega,damping,xi,amplitude,<out>_max_abs,<out>_mean,<out>_amp1,...";
+
+const CYCLE_AFTER_HELP: &str = "\
+Examples:
+  ihbm cycle van-der-pol --omega 1 --harmonics 25 --json
+  ihbm cycle van-der-pol --omega 1 --set mu=2 --harmonics 40
+
+JSON: {model, harmonics, converged, omega, period, stable, outputs: {X: {max_abs, mean,
+amp1, cos, sin}}, mode}. The cycle is found by following the linearised mode nearest
+the guess from the equilibrium until its artificial damping vanishes; stable leaves out
+the zero exponent every autonomous cycle has (a shift in time).";
 
 const SWEEP_PARAM_AFTER_HELP: &str = "\
 Examples:

@@ -2,11 +2,12 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
+use crate::backbone::{Backbone, BackboneEnd};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
-use crate::engine::{FoldRange, ParamRange, SimSettings, SolveSettings};
+use crate::engine::{BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings};
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
 use crate::results::Curve;
@@ -140,6 +141,32 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             pb.finish_and_clear();
             write_folds(&res?, &args, out)
         }
+        Command::Backbone { name, to, mode, output, harmonics, set, csv, json, plot } => {
+            distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
+            let model = configured(reg, &name, &set)?;
+            let pb = progress::spinner(&format!("backbone of {name}, mode {mode}, to {to}"));
+            let s = BackboneSettings { mode, output, to, harmonics };
+            let res = model.backbone(&s).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            write_backbone(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
+        }
+        Command::Cycle { name, omega, harmonics, set, json } => {
+            let model = configured(reg, &name, &set)?;
+            let pb = progress::spinner(&format!("limit cycle of {name} near ω = {omega}"));
+            let res = model.cycle(omega, harmonics).map_err(Failure::from_error);
+            pb.finish_and_clear();
+            let c = res?;
+            match json.as_deref() {
+                Some(target) => emit_json(&report::cycle_json(&c), target, out),
+                None => w(out, format_args!(
+                    "{}: limit cycle (mode {}), N = {}: ω = {:.9} rad/s, period {:.9} s, max |{}| = {:.9}, stable: {}\n",
+                    c.model, c.mode, c.harmonics, c.omega, c.period,
+                    c.outputs.first().map_or("x", |o| o.name.as_str()),
+                    c.outputs.first().map_or(f64::NAN, |o| o.max_abs),
+                    c.stability.verdict().map_or("unknown".to_string(), |b| b.to_string()),
+                )),
+            }
+        }
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
             let model = configured(reg, &name, &set)?;
             let settings = SimSettings { dt, periods, scheme };
@@ -180,9 +207,17 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
 /// `--csv`, `--json FILE` and `--plot` name three different files (two of them on
 /// one path would leave only the last one written), refused before any work.
 fn distinct_outputs(files: &CurveArgs) -> Result<(), Failure> {
-    let json = files.json.as_deref().filter(|t| *t != "-").map(Path::new);
-    let named =
-        [("--csv", files.csv.as_deref()), ("--json", json), ("--plot", files.plot.as_deref())];
+    distinct_files(files.csv.as_deref(), files.json.as_deref(), files.plot.as_deref())
+}
+
+/// [`distinct_outputs`] for the three paths.
+fn distinct_files(
+    csv: Option<&Path>,
+    json: Option<&str>,
+    plot: Option<&Path>,
+) -> Result<(), Failure> {
+    let json = json.filter(|t| *t != "-").map(Path::new);
+    let named = [("--csv", csv), ("--json", json), ("--plot", plot)];
     let given: Vec<(&str, std::path::PathBuf)> = named
         .iter()
         .filter_map(|&(flag, p)| {
@@ -207,6 +242,43 @@ enum Branch {
     PeriodTwo,
     /// The branch that breaks the parent's symmetry.
     Asymmetric,
+}
+
+/// Write a backbone: CSV, SVG, and the JSON or a human summary; a backbone that did
+/// not reach its amplitude is written, then reported as a failure.
+fn write_backbone(
+    b: &Backbone,
+    csv: Option<&Path>,
+    json: Option<&str>,
+    plot: Option<&Path>,
+    out: &mut dyn Write,
+) -> Result<(), Failure> {
+    if let Some(path) = csv {
+        report::write_file(path, &report::backbone_csv(b)).map_err(Failure::failed)?;
+    }
+    let name = b.output_names.get(b.output).map_or("x", |s| s.as_str());
+    if let Some(path) = plot {
+        let title = format!("{}: backbone of mode {}, N = {}", b.model, b.mode, b.harmonics);
+        let svg = report::backbone_svg(b, &title).map_err(Failure::failed)?;
+        report::write_file(path, &svg).map_err(Failure::failed)?;
+    }
+    if let Some(target) = json {
+        emit_json(&report::backbone_json(b), target, out)?;
+    } else if let (Some(first), Some(last)) = (b.points.first(), b.points.last()) {
+        w(out, format_args!(
+            "{}: mode {} backbone, N = {}: {} points, {}\n  linear: ω = {:.6} rad/s, D = {:.6e}\n  last:   ω = {:.6} rad/s, D = {:.6e} at max |{name}| = {:.6e}\n",
+            b.model, b.mode, b.harmonics, b.points.len(), b.ended, first.omega, first.damping,
+            last.omega, last.damping, last.outputs[b.output].max_abs,
+        ))?;
+    }
+    match &b.ended {
+        BackboneEnd::Reached => Ok(()),
+        end => Err(Failure::failed(format!(
+            "the backbone did not reach max |{name}| = {} ({end}); the {} points traced are written",
+            b.to,
+            b.points.len()
+        ))),
+    }
 }
 
 /// Write fold curves: CSV, SVG, and the JSON or a human summary.

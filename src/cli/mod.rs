@@ -75,7 +75,7 @@ impl Cli {
     /// The `ihbm` binary's command line: every built-in model registered.
     pub fn builtin() -> Self {
         use crate::models::{
-            BaseExcited, Duffing, FractionalDuffing, Quadratic, QuarterCar, TwoMassChain,
+            BaseExcited, Duffing, FractionalDuffing, Quadratic, QuarterCar, TwoMassChain, VanDerPol,
         };
         Cli::new()
             .own_name::<QuarterCar>()
@@ -84,6 +84,7 @@ impl Cli {
             .own_name::<TwoMassChain>()
             .own_name::<BaseExcited>()
             .own_name::<Quadratic>()
+            .own_name::<VanDerPol>()
     }
 
     /// Register `M::default()` under its own [`Model::name`].

@@ -4,6 +4,7 @@
 //! ([`settings`]) and the progress display ([`progress`]); above it, [`crate::study`]
 //! and the command line. Nothing here imports either.
 
+use crate::backbone::{Backbone, BackboneOptions};
 use crate::balance::Balance;
 use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
 use crate::continuation::{self, Observer};
@@ -245,6 +246,37 @@ pub fn fold_curves<M: Model + Clone>(
     let index = model.param_index(param)?;
     let opts = FoldCurveOptions { boundary, sweep: s.options().map_err(|e| e.cli())?, omega };
     let mut res = bifurcation::fold_curves_with(model, index, from, to, &opts, observer)?;
+    res.model = name.to_string();
+    Ok(res)
+}
+
+/// What a backbone is asked for, by name (the command line's and a study's terms).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BackboneSettings {
+    /// The mode, 1-based.
+    pub mode: usize,
+    /// The output continued to `to` (default: the first).
+    pub output: Option<String>,
+    /// The amplitude to reach (max |x(t)| of the output).
+    pub to: f64,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+}
+
+/// The backbone of mode `s.mode` of `model` ([`crate::backbone`]).
+pub fn backbone<M: Model>(name: &str, model: &M, s: &BackboneSettings) -> Result<Backbone> {
+    let output = match &s.output {
+        Some(o) => model.output_index(o)?,
+        None => 0,
+    };
+    let opts = BackboneOptions {
+        mode: s.mode,
+        output,
+        to: s.to,
+        harmonics: s.harmonics,
+        ..Default::default()
+    };
+    let mut res = crate::backbone::backbone(model, &opts)?;
     res.model = name.to_string();
     Ok(res)
 }

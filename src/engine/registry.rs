@@ -4,7 +4,11 @@
 //! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
 //! monomorphises solve, sweep and simulate for `M`.
 
-use super::{self as engine, FoldRange, ParamRange, SimSettings, SolveSettings, SweepSettings};
+use super::{
+    self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
+    SweepSettings,
+};
+use crate::backbone::{Backbone, Cycle};
 use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
@@ -56,6 +60,10 @@ pub trait AnyModel: Send + Sync {
         s: &SweepSettings,
         obs: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
     ) -> Result<FoldCurves>;
+    /// The backbone (nonlinear mode) of one mode.
+    fn backbone(&self, s: &BackboneSettings) -> Result<Backbone>;
+    /// The limit cycle near a frequency guess.
+    fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
     /// Harmonic balance against time integration at one frequency.
@@ -158,6 +166,15 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         obs: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
     ) -> Result<FoldCurves> {
         engine::fold_curves(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
+    }
+    fn backbone(&self, s: &BackboneSettings) -> Result<Backbone> {
+        engine::backbone(&self.name, &self.model, s).map_err(|e| self.named(e))
+    }
+    fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle> {
+        let opts = crate::backbone::CycleOptions { omega, harmonics, ..Default::default() };
+        let mut c = crate::backbone::cycle(&self.model, &opts).map_err(|e| self.named(e))?;
+        c.model = self.name.clone();
+        Ok(c)
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)

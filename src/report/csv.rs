@@ -1,6 +1,7 @@
 //! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...` (for a
 //! parameter sweep the first column is the parameter, named as in the model).
 
+use crate::backbone::Backbone;
 use crate::bifurcation::FoldCurves;
 use crate::results::Curve;
 use std::fmt::Write;
@@ -66,6 +67,24 @@ pub fn folds_csv(f: &FoldCurves) -> String {
             }
             s.push('\n');
         }
+    }
+    s
+}
+
+/// The CSV of a backbone: `omega,damping,xi,amplitude,<out>_max_abs,<out>_mean,
+/// <out>_amp1,...`, one row per point in arc-length order.
+pub fn backbone_csv(b: &Backbone) -> String {
+    let mut s = String::from("omega,damping,xi,amplitude");
+    for name in &b.output_names {
+        let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
+    }
+    s.push('\n');
+    for p in &b.points {
+        let _ = write!(s, "{},{},{},{}", p.omega, p.damping, p.xi, p.amplitude);
+        for o in &p.outputs {
+            let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
+        }
+        s.push('\n');
     }
     s
 }

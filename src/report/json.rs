@@ -1,5 +1,6 @@
 //! The JSON documents of CONTRACT section 2, field for field and in that order.
 
+use crate::backbone::{Backbone, Cycle};
 use crate::bifurcation::{FoldCurves, FoldPoint};
 use crate::results::{Curve, PointOutput, SimRecord, SolveRecord};
 use serde_json::{json, Map, Value};
@@ -162,5 +163,49 @@ pub fn folds_json(f: &FoldCurves) -> Value {
         "start_folds": [f.start_folds.0, f.start_folds.1],
         "boundary": f.boundary.to_string(),
         "stats": { "iterations": f.iterations, "steps": f.steps.0, "rejected_steps": f.steps.1 },
+    })
+}
+
+/// The JSON of `backbone` (CONTRACT section 3): `{model, harmonics, mode, points:
+/// [{omega, damping, stable, outputs: {name: {max_abs, mean, amp1}}}]}`, each point
+/// also with `xi` (the artificial damping of `-ξ M ẋ`) and `amplitude` (the modal
+/// amplitude), and `output`, `to`, `linear` (the start's `omega` and `damping`) and
+/// `ended`. `stable` is `null`: the stability of a mode is not checked.
+pub fn backbone_json(b: &Backbone) -> Value {
+    let points: Vec<Value> = b
+        .points
+        .iter()
+        .map(|p| {
+            json!({ "omega": p.omega, "damping": p.damping, "stable": Value::Null,
+                    "xi": p.xi, "amplitude": p.amplitude,
+                    "outputs": point_outputs(&b.output_names, &p.outputs) })
+        })
+        .collect();
+    json!({
+        "model": b.model, "harmonics": b.harmonics, "mode": b.mode,
+        "points": points,
+        "output": b.output_names.get(b.output), "to": b.to,
+        "linear": { "omega": b.linear.0, "damping": b.linear.1 },
+        "ended": b.ended.to_string(),
+        "stats": { "iterations": b.iterations, "steps": b.steps },
+    })
+}
+
+/// The JSON of `cycle` (CONTRACT section 3): `{model, harmonics, converged, omega,
+/// period, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`, and `mode`
+/// (the linearised mode it was followed from).
+pub fn cycle_json(c: &Cycle) -> Value {
+    let mut outs = Map::new();
+    for o in &c.outputs {
+        outs.insert(
+            o.name.clone(),
+            json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1,
+                    "cos": o.cos, "sin": o.sin }),
+        );
+    }
+    json!({
+        "model": c.model, "harmonics": c.harmonics, "converged": true,
+        "omega": c.omega, "period": c.period, "stable": c.stability.verdict(),
+        "outputs": Value::Object(outs), "mode": c.mode,
     })
 }

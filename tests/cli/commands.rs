@@ -650,3 +650,117 @@ fn sweep_break_symmetry_switches_at_the_branch_point() {
         > 0.1));
     assert_rejected(&[&base[..], &["--break-symmetry", "--period", "2"]].concat(), &["--period"]);
 }
+
+/// `backbone` writes the JSON of CONTRACT section 3: the undamped Duffing backbone
+/// ends at max |x| = A with the elliptic closed form's frequency; a mode beyond the
+/// DOFs is a usage error, and an amplitude the mode cannot reach (the softening
+/// backbone's frequency falls to 0 at the separatrix, max |x| = √(k/|k3|) = 1) writes
+/// what was traced and fails.
+#[test]
+fn backbone_writes_contract_json_and_keeps_what_it_traced() {
+    let (csv, svg) = (tmp("backbone.csv"), tmp("backbone.svg"));
+    let o = ihbm(&[
+        "backbone",
+        "duffing",
+        "--to",
+        "1",
+        "--set",
+        "c=0",
+        "--harmonics",
+        "15",
+        "--json",
+        "-",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(keys(&v)[..4], ["model", "harmonics", "mode", "points"]);
+    assert_eq!(
+        (v["model"].as_str(), v["harmonics"].as_u64(), v["mode"].as_u64()),
+        (Some("duffing"), Some(15), Some(1))
+    );
+    let points = v["points"].as_array().unwrap();
+    let last = points.last().unwrap();
+    assert_eq!(keys(last)[..3], ["omega", "damping", "stable"]);
+    assert!(last["stable"].is_null());
+    assert_eq!(keys(&last["outputs"]["x"]), ["max_abs", "mean", "amp1"]);
+    assert!((last["outputs"]["x"]["max_abs"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+    // π √2 / (2 K(1/4)), K(1/4) = 1.685750354812596
+    let exact = std::f64::consts::PI * 2f64.sqrt() / (2.0 * 1.685750354812596);
+    assert!((last["omega"].as_f64().unwrap() - exact).abs() < 1e-9 * exact, "{}", last["omega"]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("omega,damping,xi,amplitude,x_max_abs,x_mean,x_amp1\n"), "{text}");
+    assert_eq!(text.lines().count(), 1 + points.len());
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+
+    assert_rejected(
+        &["backbone", "quarter-car", "--to", "0.1", "--mode", "3"],
+        &["mode", "1 to 2"],
+    );
+    assert_rejected(&["backbone", "duffing", "--to", "0"], &["amplitude", "positive"]);
+    assert_rejected(&["backbone", "duffing", "--to", "1", "--output", "q"], &["q"]);
+    let soft = tmp("soft.csv");
+    let o = ihbm(&[
+        "backbone",
+        "duffing",
+        "--to",
+        "2",
+        "--set",
+        "c=0",
+        "--set",
+        "k3=-1",
+        "--csv",
+        soft.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(err.contains("did not reach max |x| = 2") && err.contains("written"), "{err}");
+    let rows = std::fs::read_to_string(&soft).unwrap();
+    // the frequency falls towards 0 as the orbit nears the separatrix (its period
+    // diverges); with finitely many harmonics the branch gets there slightly beyond
+    // max |x| = 1
+    let last: Vec<f64> =
+        rows.lines().last().unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    assert!(
+        rows.lines().count() > 10 && last[0] < 1e-2,
+        "ω = {} at max |x| = {}",
+        last[0],
+        last[4]
+    );
+    assert!(last[4] > 0.99 && last[4] < 1.2, "{}", last[4]);
+}
+
+/// `cycle` writes the JSON of CONTRACT section 3; at μ = 2 the van der Pol cycle's
+/// period is 7.62987 s (the classical value, Hairer–Wanner's tables), and a model
+/// without self-excitation fails with the reason.
+#[test]
+fn cycle_writes_contract_json() {
+    let o = ihbm(&[
+        "cycle",
+        "van-der-pol",
+        "--omega",
+        "1",
+        "--set",
+        "mu=2",
+        "--harmonics",
+        "40",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(
+        keys(&v)[..7],
+        ["model", "harmonics", "converged", "omega", "period", "stable", "outputs"]
+    );
+    assert_eq!(v["stable"], true);
+    assert_eq!(keys(&v["outputs"]["x"]), ["max_abs", "mean", "amp1", "cos", "sin"]);
+    let period = v["period"].as_f64().unwrap();
+    assert!((period - 7.62987).abs() < 1e-5, "{period}");
+    let o = ihbm(&["cycle", "duffing", "--omega", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("no limit cycle"), "{}", stderr(&o));
+    assert_rejected(&["cycle", "van-der-pol", "--omega", "-1"], &["frequency guess"]);
+}

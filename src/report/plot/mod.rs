@@ -10,10 +10,12 @@
 //! figure, never in the CSV/JSON. The legend goes where it covers no curve
 //! ([`super::legend`]).
 
+mod backbone;
 mod folds;
 mod key;
 mod svg;
 
+pub use backbone::backbone_svg;
 pub use folds::{folds_svg, folds_svg_family, trend_svg};
 
 use super::legend::{self, Placement, Rect};

@@ -1,0 +1,262 @@
+//! The extended periodic motion concept as a square system for Newton's method.
+//!
+//! A nonlinear mode of a damped model is the periodic motion of
+//! `r(x) - ξ M ẋ = 0` with every forcing term left out (Krack 2015): the artificial
+//! damping `-ξ M ẋ` compensates the dissipation over a period, and ξ is an unknown
+//! with the frequency ω. In Fourier coefficients, with `a = q â` (q the modal
+//! amplitude, continued as `u = ln q` so that steps are relative over decades):
+//!
+//! ```text
+//! F(â, ω, ξ, u) = [R(qâ, ω) - R(0, ω) - ξ M D(ω) qâ] / (q s_r) = 0     (n rows)
+//!                 â[phase] = 0                         (the sine of harmonic 1 of one DOF)
+//!                 Σ M_ij (â_c1,i â_c1,j + â_s1,i â_s1,j) - 1 = 0     (q is the modal amplitude)
+//! ```
+//!
+//! `R(0, ω)` holds the forcing (and any other term without a DOF), so subtracting it
+//! leaves the free system; `D(ω)` is the derivative's spectral operator. `n + 2`
+//! equations in `n + 3` unknowns: one more row (arc length, or a fixed `u`) makes it
+//! square.
+
+use crate::balance::Balance;
+use crate::continuation::tracer::{dot, no_convergence, stalling};
+use crate::linalg::DenseLu;
+use crate::model::Model;
+use faer::prelude::ReborrowMut;
+
+pub(crate) struct Epmc<'m, M: Model> {
+    pub bal: Balance<'m, M>,
+    pub n: usize,
+    nh: usize,
+    ndof: usize,
+    /// `ndof × ndof`, row-major.
+    mass: Vec<f64>,
+    /// The coefficient fixed to 0 (the sine of harmonic 1 of the reference DOF).
+    pub phase: usize,
+    /// Residual and frequency scales.
+    pub sr: f64,
+    pub so: f64,
+    pub tol: f64,
+    pub iterations: usize,
+    lu: DenseLu,
+    a: Vec<f64>,
+    r: Vec<f64>,
+    r0: Vec<f64>,
+    dr: Vec<f64>,
+    dr0: Vec<f64>,
+    md: Vec<f64>,
+    zero: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl<'m, M: Model> Epmc<'m, M> {
+    pub fn new(bal: Balance<'m, M>, mass: Vec<f64>, phase: usize, tol: f64) -> Self {
+        let n = bal.len();
+        let nh = bal.harmonics();
+        let ndof = n / (2 * nh + 1);
+        Epmc {
+            bal,
+            n,
+            nh,
+            ndof,
+            mass,
+            phase,
+            sr: 1.0,
+            so: 1.0,
+            tol,
+            iterations: 0,
+            lu: DenseLu::new(n + 3),
+            a: vec![0.0; n],
+            r: vec![0.0; n],
+            r0: vec![0.0; n],
+            dr: vec![0.0; n],
+            dr0: vec![0.0; n],
+            md: vec![0.0; n],
+            zero: vec![0.0; n],
+            rhs: vec![0.0; n + 3],
+        }
+    }
+
+    pub fn dim(&self) -> usize {
+        self.n + 3
+    }
+
+    pub fn omega(&self, y: &[f64]) -> f64 {
+        y[self.n] * self.so
+    }
+
+    pub fn xi(&self, y: &[f64]) -> f64 {
+        y[self.n + 1] * self.so
+    }
+
+    pub fn log_amplitude(&self, y: &[f64]) -> f64 {
+        y[self.n + 2]
+    }
+
+    /// The Fourier coefficients `q â` of `y`.
+    pub fn coeffs(&self, y: &[f64]) -> Vec<f64> {
+        let q = y[self.n + 2].exp();
+        y[..self.n].iter().map(|v| v * q).collect()
+    }
+
+    /// `out = M D(ω) x`: the mass matrix applied to the derivative of `x`.
+    fn mass_derivative(&self, x: &[f64], omega: f64, out: &mut [f64]) {
+        let (nh, len) = (self.nh, 2 * self.nh + 1);
+        out.fill(0.0);
+        for i in 0..self.ndof {
+            for j in 0..self.ndof {
+                let m = self.mass[i * self.ndof + j];
+                if m == 0.0 {
+                    continue;
+                }
+                let (xi, oi) = (&x[j * len..(j + 1) * len], i * len);
+                for k in 1..=nh {
+                    let kw = k as f64 * omega;
+                    out[oi + k] += m * kw * xi[nh + k];
+                    out[oi + nh + k] -= m * kw * xi[k];
+                }
+            }
+        }
+    }
+
+    /// The norm row's value at `â`.
+    fn norm(&self, y: &[f64]) -> f64 {
+        let (nh, len) = (self.nh, 2 * self.nh + 1);
+        let mut s = 0.0;
+        for i in 0..self.ndof {
+            for j in 0..self.ndof {
+                let m = self.mass[i * self.ndof + j];
+                s += m
+                    * (y[i * len + 1] * y[j * len + 1] + y[i * len + nh + 1] * y[j * len + nh + 1]);
+            }
+        }
+        s
+    }
+
+    /// One Newton step at `y` (in place) with the last row `border · y = target`;
+    /// the max-norm of the step.
+    pub fn newton_step(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+    ) -> Result<f64, String> {
+        let (n, nh, len) = (self.n, self.nh, 2 * self.nh + 1);
+        self.iterations += 1;
+        let (omega, xi, q) = (self.omega(y), self.xi(y), y[n + 2].exp());
+        if !(omega > 0.0 && omega.is_finite() && q.is_finite() && q > 0.0) {
+            return Err(format!("the iterate left the physical range (ω = {omega:e}, q = {q:e})"));
+        }
+        for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
+            *a = v * q;
+        }
+        let mut k = self.lu.matrix_mut();
+        self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
+        self.bal.residual(&self.zero, omega, &mut self.r0);
+        self.bal.d_omega(&self.a, omega, &mut self.dr);
+        self.bal.d_omega(&self.zero, omega, &mut self.dr0);
+        let a = std::mem::take(&mut self.a);
+        let mut md = std::mem::take(&mut self.md);
+        self.mass_derivative(&a, omega, &mut md);
+        let mut k = self.lu.matrix_mut();
+        // J_E = J - ξ M D: M D couples the cosine and sine of each harmonic
+        for i in 0..self.ndof {
+            for j in 0..self.ndof {
+                let m = self.mass[i * self.ndof + j];
+                if m == 0.0 {
+                    continue;
+                }
+                for h in 1..=nh {
+                    let kw = h as f64 * omega;
+                    k[(i * len + h, j * len + nh + h)] -= xi * m * kw;
+                    k[(i * len + nh + h, j * len + h)] += xi * m * kw;
+                }
+            }
+        }
+        let inv = 1.0 / (q * self.sr);
+        for i in 0..n {
+            let re = self.r[i] - self.r0[i] - xi * md[i];
+            // ∂/∂u of e^{-u} R_E(e^u â) = (J_E a - R_E) / q
+            let jea: f64 = (0..n).map(|j| k[(i, j)] * a[j]).sum();
+            k[(i, n)] = self.so * (self.dr[i] - self.dr0[i] - xi * md[i] / omega) * inv;
+            k[(i, n + 1)] = -self.so * md[i] * inv;
+            k[(i, n + 2)] = (jea - re) * inv;
+            self.rhs[i] = re * inv;
+        }
+        for j in 0..n {
+            for i in 0..n {
+                k[(i, j)] /= self.sr;
+            }
+        }
+        // the phase and norm rows
+        for j in 0..n + 3 {
+            k[(n, j)] = 0.0;
+            k[(n + 1, j)] = 0.0;
+            k[(n + 2, j)] = border[j];
+        }
+        k[(n, self.phase)] = 1.0;
+        self.rhs[n] = y[self.phase];
+        for i in 0..self.ndof {
+            for j in 0..self.ndof {
+                let m = self.mass[i * self.ndof + j];
+                for c in [1, nh + 1] {
+                    k[(n + 1, i * len + c)] += m * y[j * len + c];
+                    k[(n + 1, j * len + c)] += m * y[i * len + c];
+                }
+            }
+        }
+        self.rhs[n + 1] = self.norm(y) - 1.0;
+        self.rhs[n + 2] = dot(border, y) - target;
+        self.a = a;
+        self.md = md;
+        if !self.rhs.iter().all(|v| v.is_finite()) {
+            return Err(format!("non-finite residual at ω = {omega:.6}"));
+        }
+        let pivots = self.lu.factor();
+        if pivots.is_nan() || pivots <= 1e-15 {
+            return Err(format!("singular Jacobian at ω = {omega:.6}"));
+        }
+        self.lu.solve(&mut self.rhs);
+        let mut dn = 0.0f64;
+        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
+            *yi -= d;
+            dn = dn.max(d.abs());
+        }
+        if !(dn.is_finite() && y.iter().all(|v| v.is_finite())) {
+            return Err(format!("non-finite Newton step near ω = {omega:.6}"));
+        }
+        Ok(dn)
+    }
+
+    /// Newton from `y` on `border · y = target`; iterations used.
+    pub fn correct(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+        budget: usize,
+    ) -> Result<usize, String> {
+        let mut prev = f64::INFINITY;
+        for it in 1..=budget {
+            let dn = self.newton_step(y, border, target)?;
+            if dn <= self.tol {
+                return Ok(it);
+            }
+            if let Some(why) = stalling(it, dn, prev, self.omega(y)) {
+                return Err(why);
+            }
+            prev = dn;
+        }
+        Err(no_convergence(budget, self.omega(y)))
+    }
+
+    /// The unit tangent from the LU of the last Newton step.
+    pub fn tangent(&mut self) -> Vec<f64> {
+        let d = self.dim();
+        let mut t = vec![0.0; d];
+        t[d - 1] = 1.0;
+        self.lu.solve(&mut t);
+        let norm = dot(&t, &t).sqrt();
+        t.iter_mut().for_each(|v| *v /= norm);
+        t
+    }
+}

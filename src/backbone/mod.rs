@@ -1,0 +1,461 @@
+//! Nonlinear modes: backbones by the extended periodic motion concept (EPMC).
+//!
+//! A backbone is how the free-vibration frequency of a mode changes with its
+//! amplitude: where the forced peaks lean and fold. [`backbone`] starts at mode `K` of
+//! the linearised model at a small amplitude and continues it (pseudo-arclength in
+//! the coefficients, ω, ξ and the log of the modal amplitude) until the chosen
+//! output's `max |x(t)|` reaches the requested amplitude. Every forcing term is left
+//! out; damping, integer or fractional, stays in and is balanced by the artificial
+//! damping `-ξ M ẋ` ([`epmc`]), which gives the modal damping ratio `D = ξ / (2ω)`
+//! (exactly 0 for a conservative model). The book's chapter *Nonlinear modes* has
+//! the method and the checks against closed forms.
+//!
+//! ```
+//! use ihbm::backbone::{backbone, BackboneOptions};
+//! use ihbm::models::Duffing;
+//! // The undamped Duffing oscillator x'' + x + x³ = 0 stiffens: ω grows with amplitude.
+//! let mut model = Duffing::default();
+//! model.c = 0.0;
+//! let opts = BackboneOptions { to: 1.0, harmonics: 7, ..Default::default() };
+//! let b = backbone(&model, &opts).unwrap();
+//! let last = b.points.last().unwrap();
+//! assert!((last.outputs[0].max_abs - 1.0).abs() < 1e-9);
+//! assert!(last.omega > 1.3 && last.omega < 1.4);
+//! assert!(last.damping.abs() < 1e-12);
+//! ```
+
+mod cycle;
+mod epmc;
+mod linear;
+
+use crate::balance::Balance;
+use crate::continuation::tracer::{dot, LOCATE_ITER};
+use crate::continuation::Control;
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::outputs::OutputEval;
+use crate::results::PointOutput;
+pub use cycle::{cycle, Cycle, CycleOptions};
+use epmc::Epmc;
+pub(crate) use linear::{linear_mode, Linearisation};
+
+/// Where a trace stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Goal {
+    /// The output's `max |x(t)|` reaches this (a backbone).
+    Amplitude(f64),
+    /// The artificial damping vanishes: a periodic motion of the model itself (a
+    /// limit cycle), searched up to this output amplitude.
+    ZeroDamping(f64),
+}
+
+/// Settings of [`backbone`]; `to` must be set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BackboneOptions {
+    /// The mode, 1-based, in the order of the linearised natural frequencies.
+    pub mode: usize,
+    /// The output whose `max |x(t)|` is continued to `to` (index; default the first).
+    pub output: usize,
+    /// The amplitude to reach.
+    pub to: f64,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+    /// Newton tolerance (max-norm of the scaled update).
+    pub tol: f64,
+    /// Newton iterations per point.
+    pub max_iter: usize,
+    /// First step, and its bounds, in the scaled unknowns (the log of the modal
+    /// amplitude among them).
+    pub initial_step: f64,
+    /// Smallest step before the curve is given up.
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Points at most.
+    pub max_steps: usize,
+    /// The start's amplitude relative to `to` (small: the linear limit).
+    pub start: f64,
+}
+
+impl Default for BackboneOptions {
+    fn default() -> Self {
+        BackboneOptions {
+            mode: 1,
+            output: 0,
+            to: f64::NAN,
+            harmonics: crate::fourier::DEFAULT_HARMONICS,
+            tol: 1e-10,
+            max_iter: 12,
+            initial_step: 0.05,
+            min_step: 1e-6,
+            max_step: 0.25,
+            max_steps: 2000,
+            start: 1e-4,
+        }
+    }
+}
+
+/// One point of a backbone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModePoint {
+    /// The mode's angular frequency ω, rad/s.
+    pub omega: f64,
+    /// The artificial damping ξ of `-ξ M ẋ` (1/s).
+    pub xi: f64,
+    /// The modal damping ratio `D = ξ / (2ω)`.
+    pub damping: f64,
+    /// The modal amplitude q (first harmonic, mass-weighted).
+    pub amplitude: f64,
+    /// Fourier coefficients.
+    pub coeffs: Vec<f64>,
+    /// Per output, in model output order.
+    pub outputs: Vec<PointOutput>,
+}
+
+/// Why a backbone ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BackboneEnd {
+    /// The output reached the requested amplitude (the last point is there).
+    Reached,
+    /// The corrector failed at the smallest step, or the step limit; the reason.
+    Stalled(String),
+    /// An observer stopped it.
+    Stopped,
+}
+
+impl std::fmt::Display for BackboneEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BackboneEnd::Reached => write!(f, "reached the amplitude"),
+            BackboneEnd::Stalled(why) => write!(f, "stalled: {why}"),
+            BackboneEnd::Stopped => write!(f, "stopped"),
+        }
+    }
+}
+
+/// A backbone: the linear mode it starts from and the traced points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Backbone {
+    /// The model's name (set by the caller that knows it).
+    pub model: String,
+    /// Number of harmonics N.
+    pub harmonics: usize,
+    /// The mode (1-based).
+    pub mode: usize,
+    /// Output names, in model order.
+    pub output_names: Vec<String>,
+    /// The output continued to `to`, and `to`.
+    pub output: usize,
+    /// See `output`.
+    pub to: f64,
+    /// The start's frequency and damping ratio: the linearised mode's, to the
+    /// start's relative amplitude squared ([`BackboneOptions::start`]).
+    pub linear: (f64, f64),
+    /// Points, by increasing arc length from the start.
+    pub points: Vec<ModePoint>,
+    /// Why it ended.
+    pub ended: BackboneEnd,
+    /// Newton iterations and accepted steps.
+    pub iterations: usize,
+    /// See `iterations`.
+    pub steps: usize,
+}
+
+/// The backbone of `model`; see the module documentation.
+///
+/// Errors for bad input (a mode beyond the DOFs, an unknown output, a target
+/// amplitude that is not positive, a mode that is not oscillatory at rest) and when
+/// the start does not converge. A backbone that cannot reach the amplitude (it turns
+/// back or runs away) ends [`BackboneEnd::Stalled`] with what was traced.
+pub fn backbone<M: Model>(model: &M, opts: &BackboneOptions) -> Result<Backbone> {
+    backbone_with(model, opts, &mut |_: &Backbone| Control::Continue)
+}
+
+/// [`backbone`], calling `observer` after every accepted point (it may stop the run).
+pub fn backbone_with<M: Model>(
+    model: &M,
+    opts: &BackboneOptions,
+    observer: &mut dyn FnMut(&Backbone) -> Control,
+) -> Result<Backbone> {
+    if !(opts.to > 0.0 && opts.to.is_finite()) {
+        return Err(Error::InvalidValue {
+            what: "backbone amplitude".into(),
+            value: opts.to.to_string(),
+            expected: "a positive, finite max |x(t)| to reach".into(),
+        });
+    }
+    trace(model, opts, Goal::Amplitude(opts.to), opts.start * opts.to, observer)
+}
+
+/// Continue mode `opts.mode` from the output amplitude `start` until `goal`.
+fn trace<M: Model>(
+    model: &M,
+    opts: &BackboneOptions,
+    goal: Goal,
+    start: f64,
+    observer: &mut dyn FnMut(&Backbone) -> Control,
+) -> Result<Backbone> {
+    model.validate()?;
+    let outputs = model.outputs();
+    if opts.output >= outputs.len() {
+        return Err(Error::InvalidValue {
+            what: "output index".into(),
+            value: opts.output.to_string(),
+            expected: format!("one of the model's {} outputs", outputs.len()),
+        });
+    }
+    let lm = linear_mode(model, opts.mode)?;
+    let bal = Balance::new(model, opts.harmonics)?;
+    let n = bal.len();
+    let nh = opts.harmonics;
+    let len = 2 * nh + 1;
+    let ndof = model.dofs().len();
+    let mass = Linearisation::at_rest(model, lm.omega).mass();
+    // the reference DOF: the mode's largest entry (its sine of harmonic 1 is fixed)
+    let dref =
+        (0..ndof).max_by(|&i, &j| lm.shape[i].abs().total_cmp(&lm.shape[j].abs())).unwrap_or(0);
+    let mut sys = Epmc::new(bal, mass.clone(), dref * len + nh + 1, opts.tol);
+    sys.so = lm.omega;
+    let mut j0 = faer::Mat::<f64>::zeros(n, n);
+    let mut r = vec![0.0; n];
+    sys.bal.jacobian(&vec![0.0; n], lm.omega, &mut r, j0.as_mut());
+    sys.sr = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .fold(0.0f64, |m, (i, j)| m.max(j0[(i, j)].abs()));
+    if !(sys.sr > 0.0 && sys.sr.is_finite()) {
+        sys.sr = 1.0;
+    }
+    // the start: the linear mode, mass-normalised, at a small amplitude
+    let mnorm: f64 = (0..ndof)
+        .flat_map(|i| (0..ndof).map(move |j| (i, j)))
+        .map(|(i, j)| lm.shape[i] * mass[i * ndof + j] * lm.shape[j])
+        .sum();
+    if !(mnorm > 0.0 && mnorm.is_finite()) {
+        return Err(Error::InvalidValue {
+            what: format!("mode {}", opts.mode),
+            value: format!("modal mass {mnorm:e}"),
+            expected: "a positive modal mass".into(),
+        });
+    }
+    let shape: Vec<f64> = lm.shape.iter().map(|v| v / mnorm.sqrt()).collect();
+    let out_amp = outputs[opts.output].terms.iter().map(|&(d, c)| c * shape[d]).sum::<f64>().abs();
+    let scale = if out_amp > 1e-12 * shape.iter().fold(0.0f64, |m, v| m.max(v.abs())) {
+        out_amp
+    } else {
+        shape.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    let q0 = start / scale;
+    let mut y = vec![0.0; n + 3];
+    for d in 0..ndof {
+        y[d * len + 1] = shape[d];
+    }
+    y[n] = 1.0;
+    y[n + 1] = lm.xi / sys.so;
+    y[n + 2] = q0.ln();
+    let mut res = Backbone {
+        model: model.name().to_string(),
+        harmonics: nh,
+        mode: opts.mode,
+        output_names: outputs.iter().map(|o| o.name.to_string()).collect(),
+        output: opts.output,
+        to: opts.to,
+        linear: (f64::NAN, f64::NAN),
+        points: Vec::new(),
+        ended: BackboneEnd::Stopped,
+        iterations: 0,
+        steps: 0,
+    };
+    let mut eu = vec![0.0; n + 3];
+    eu[n + 2] = 1.0;
+    let u0 = y[n + 2];
+    sys.correct(&mut y, &eu, u0, opts.max_iter.max(LOCATE_ITER)).map_err(|why| {
+        Error::Other(format!(
+            "the backbone of mode {} did not start at the linear mode (ω = {:.6} rad/s): {why}",
+            opts.mode, lm.omega
+        ))
+    })?;
+    let eval = OutputEval::new(model, nh);
+    let mut t = sys.tangent();
+    if t[n + 2] < 0.0 {
+        t.iter_mut().for_each(|v| *v = -*v);
+    }
+    let mut tracer = Tracer { sys, eval, h: opts.initial_step, opts: opts.clone(), goal };
+    let start = tracer.point(&y);
+    res.linear = (start.omega, start.damping);
+    res.points.push(start);
+    if observer(&res) == Control::Stop {
+        res.iterations = tracer.sys.iterations;
+        return Ok(res);
+    }
+    res.ended = loop {
+        match tracer.step(&mut y, &mut t, &mut res) {
+            Some(end) => break end,
+            None => {
+                res.steps += 1;
+                if observer(&res) == Control::Stop {
+                    break BackboneEnd::Stopped;
+                }
+            }
+        }
+    };
+    res.iterations = tracer.sys.iterations;
+    Ok(res)
+}
+
+struct Tracer<'m, M: Model> {
+    sys: Epmc<'m, M>,
+    eval: OutputEval,
+    h: f64,
+    opts: BackboneOptions,
+    goal: Goal,
+}
+
+impl<M: Model> Tracer<'_, M> {
+    fn point(&mut self, y: &[f64]) -> ModePoint {
+        let coeffs = self.sys.coeffs(y);
+        let mut outputs = Vec::new();
+        self.eval.points(&coeffs, &mut outputs);
+        let (omega, xi) = (self.sys.omega(y), self.sys.xi(y));
+        ModePoint {
+            omega,
+            xi,
+            damping: xi / (2.0 * omega),
+            amplitude: self.sys.log_amplitude(y).exp(),
+            coeffs,
+            outputs,
+        }
+    }
+
+    fn amplitude(&self, p: &ModePoint) -> f64 {
+        p.outputs[self.opts.output].max_abs
+    }
+
+    /// One accepted point (pushed to `res`), or the end.
+    fn step(
+        &mut self,
+        y: &mut Vec<f64>,
+        t: &mut Vec<f64>,
+        res: &mut Backbone,
+    ) -> Option<BackboneEnd> {
+        if res.points.len() >= self.opts.max_steps {
+            let last =
+                res.points.last().map_or((f64::NAN, f64::NAN), |p| (p.xi, self.amplitude(p)));
+            return Some(BackboneEnd::Stalled(match self.goal {
+                Goal::Amplitude(_) => format!("step limit {} reached", self.opts.max_steps),
+                Goal::ZeroDamping(_) => format!(
+                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e} ({} steps): no limit cycle of this mode",
+                    last.0, res.output_names[self.opts.output], last.1, self.opts.max_steps
+                ),
+            }));
+        }
+        loop {
+            let h = self.h;
+            let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
+            let target = dot(t, y) + h;
+            let it = match self.sys.correct(&mut z, t, target, self.opts.max_iter) {
+                Ok(it) => it,
+                Err(why) => {
+                    self.h *= 0.5;
+                    if self.h < self.opts.min_step {
+                        return Some(BackboneEnd::Stalled(why));
+                    }
+                    continue;
+                }
+            };
+            let mut tn = self.sys.tangent();
+            if dot(&tn, t) < 0.0 {
+                tn.iter_mut().for_each(|v| *v = -*v);
+            }
+            let angle = dot(&tn, t).clamp(-1.0, 1.0).acos();
+            if angle > 0.3 && h > 2.0 * self.opts.min_step {
+                self.h *= 0.5;
+                continue;
+            }
+            let p = self.point(&z);
+            match self.goal {
+                Goal::Amplitude(to) if self.amplitude(&p) >= to => {
+                    return Some(self.land(y, &z, res));
+                }
+                Goal::ZeroDamping(_) if self.sys.xi(y) * p.xi <= 0.0 => {
+                    return Some(self.land_zero_damping(y, &z, res));
+                }
+                Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
+                    return Some(BackboneEnd::Stalled(format!(
+                        "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
+                        p.xi,
+                        res.output_names[self.opts.output],
+                        self.amplitude(&p)
+                    )));
+                }
+                _ => {}
+            }
+            res.points.push(p);
+            *y = z;
+            *t = tn;
+            let factor = match it {
+                0..=2 => 1.6,
+                3 => 1.25,
+                4 => 1.0,
+                _ => 0.6,
+            };
+            self.h = (h * factor).clamp(self.opts.min_step, self.opts.max_step);
+            return None;
+        }
+    }
+
+    /// The point between `y` and `z` where ξ = 0, by Newton on the row `ξ = 0` from
+    /// the linear interpolation.
+    fn land_zero_damping(&mut self, y: &[f64], z: &[f64], res: &mut Backbone) -> BackboneEnd {
+        let n = self.sys.n;
+        let (xa, xb) = (y[n + 1], z[n + 1]);
+        let f = if xb != xa { xa / (xa - xb) } else { 0.5 };
+        let mut w: Vec<f64> = y.iter().zip(z).map(|(a, b)| a + f * (b - a)).collect();
+        let mut e = vec![0.0; n + 3];
+        e[n + 1] = 1.0;
+        match self.sys.correct(&mut w, &e, 0.0, self.opts.max_iter.max(LOCATE_ITER)) {
+            Ok(_) => {
+                let p = self.point(&w);
+                res.points.push(p);
+                BackboneEnd::Reached
+            }
+            Err(why) => BackboneEnd::Stalled(format!("could not locate ξ = 0: {why}")),
+        }
+    }
+
+    /// The point where the output's amplitude is `to`, between `y` (below) and `z`
+    /// (above): secant iterations on the log amplitude, corrected at fixed `u`.
+    fn land(&mut self, y: &[f64], z: &[f64], res: &mut Backbone) -> BackboneEnd {
+        let n = self.sys.n;
+        let Goal::Amplitude(to) = self.goal else {
+            return BackboneEnd::Stalled("no amplitude to land on".into());
+        };
+        let mut eu = vec![0.0; n + 3];
+        eu[n + 2] = 1.0;
+        let pa = res.points.last().map_or(0.0, |p| self.amplitude(p));
+        let (mut ua, mut fa) = (y[n + 2], (pa / to).ln());
+        let mut zb = z.to_vec();
+        let pb = self.point(z);
+        let (mut ub, mut fb) = (z[n + 2], (self.amplitude(&pb) / to).ln());
+        let mut best = pb;
+        for _ in 0..40 {
+            let u = if fb != fa { ub - fb * (ub - ua) / (fb - fa) } else { 0.5 * (ua + ub) };
+            let mut w: Vec<f64> = zb.clone();
+            w[n + 2] = u;
+            if let Err(why) = self.sys.correct(&mut w, &eu, u, self.opts.max_iter.max(LOCATE_ITER))
+            {
+                return BackboneEnd::Stalled(format!("could not land on max |x| = {to}: {why}"));
+            }
+            let p = self.point(&w);
+            let f = (self.amplitude(&p) / to).ln();
+            best = p;
+            (ua, fa) = (ub, fb);
+            (ub, fb) = (u, f);
+            zb = w;
+            if f.abs() < 1e-13 {
+                break;
+            }
+        }
+        res.points.push(best);
+        BackboneEnd::Reached
+    }
+}
