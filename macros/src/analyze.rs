@@ -1,6 +1,7 @@
 //! Symbolic analysis: resolve names, expand `let` aliases, check that every equation is
-//! polynomial in the signals with forcing only as `cos/sin(k * omega * t)` times
-//! coefficients, and collect the distinct signals. This module only orchestrates; each
+//! polynomial in the signals with time only in `cos/sin(k * omega * t)` (times
+//! coefficients or DOF terms) and coefficients smooth functions of the parameters and
+//! Ω, and collect the distinct signals and the coefficients to check at run time. This module only orchestrates; each
 //! step is a module of its own.
 //!
 //! Every rejection is a `syn::Error` spanned on the offending token, with a message that
@@ -11,6 +12,7 @@ mod coeff;
 mod compact;
 mod diag;
 mod forcing;
+mod function;
 mod linear;
 mod lower;
 mod outputs;
@@ -20,7 +22,7 @@ mod syntax;
 mod tree;
 
 pub use syntax::show;
-pub use tree::{Analysis, Node, OrderKey, Trig};
+pub use tree::{Analysis, Check, Node, OrderKey, Trig};
 
 use crate::parse::ModelDef;
 use diag::err;
@@ -55,9 +57,16 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
     }
     let equations = def.equations.iter().map(|eq| lower.equation(eq)).collect::<Result<_, _>>()?;
     let outputs = outputs::outputs(def, &lower.linear())?;
-    let (signals, aliases) = lower.finish();
-    let mut a = Analysis { signals, aliases, equations, outputs };
+    let (signals, aliases, checks) = lower.finish();
+    let mut a = Analysis { signals, aliases, equations, outputs, checks: Vec::new() };
     compact::compact(&mut a);
+    // Only what the residual evaluates is checked, each text once.
+    for (alias, check) in checks {
+        let used = alias.is_none_or(|i| a.aliases[i].used);
+        if used && !a.checks.iter().any(|c| c.text == check.text) {
+            a.checks.push(check);
+        }
+    }
     Ok(a)
 }
 
