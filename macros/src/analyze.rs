@@ -57,7 +57,7 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
     }
     let equations = def.equations.iter().map(|eq| lower.equation(eq)).collect::<Result<_, _>>()?;
     let outputs = outputs::outputs(def, &lower.linear())?;
-    let (signals, aliases, checks) = lower.finish();
+    let lower::Lowered { signals, aliases, checks } = lower.finish();
     let mut a = Analysis { signals, aliases, equations, outputs, checks: Vec::new() };
     compact::compact(&mut a);
     // Only what the residual evaluates is checked, each text once.
@@ -106,6 +106,46 @@ mod tests {
         );
         let shape = a.shape();
         assert_eq!((shape.degree, shape.max_harmonic), (3, 3));
+    }
+
+    #[test]
+    fn coefficient_functions_are_checked_innermost_first_once_and_only_if_used() {
+        let a = analyze_str(
+            "struct S { params { k = 1.0, m = 1.0, tau = 0.1 } dofs { x }
+               let kd = sqrt(k - m * omega.powi(2));
+               let unused = ln(tau);
+               equations {
+                 D(x, 2) + kd * x + k / (omega - tau) * x + omega.powi(-1) * x.powi(3)
+                   + (omega * tau).cos() * x + kd.exp() * D(x, 1) + sqrt(k - m * omega.powi(2)) * x
+                   = cos(omega * tau) * cos(omega * t);
+               } }",
+        )
+        .unwrap();
+        let texts: Vec<&str> = a.checks.iter().map(|c| c.text.as_str()).collect();
+        // cos of a finite number needs no check; `ln(tau)` is in an unused alias; the
+        // second `sqrt(...)` is the same text as the alias's.
+        assert_eq!(
+            texts,
+            ["sqrt(k - m * omega.powi(2))", "k / (omega - tau)", "omega.powi(-1)", "kd.exp()",]
+        );
+        // Aliases are expanded: the check reads parameters and Ω only.
+        fn has_alias(n: &Node) -> bool {
+            let mut found = matches!(n, Node::Alias(_));
+            n.for_each_child(|c| found |= has_alias(c));
+            found
+        }
+        assert!(a.checks.iter().all(|c| !has_alias(&c.node)));
+    }
+
+    #[test]
+    fn a_dof_quotient_checks_the_reciprocal_of_its_divisor() {
+        let a = analyze_str(
+            "struct S { params { k = 1.0, w = 2.0 } dofs { x }
+               equations { D(x, 2) + x / (omega - w) + x / k + x / 2.0 = 0.0; } }",
+        )
+        .unwrap();
+        let texts: Vec<&str> = a.checks.iter().map(|c| c.text.as_str()).collect();
+        assert_eq!(texts, ["1 / (omega - w)", "1 / k"]);
     }
 
     #[test]

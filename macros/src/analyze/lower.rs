@@ -32,6 +32,14 @@ pub(super) struct Info {
     pub(super) forcing: Option<Sp>,
 }
 
+/// The signals met, the aliases lowered (none marked used yet), and the coefficient
+/// checks with the alias each came from (`None`: an equation).
+pub struct Lowered {
+    pub signals: Vec<SignalKey>,
+    pub aliases: Vec<Alias>,
+    pub checks: Vec<(Option<usize>, Check)>,
+}
+
 /// The lowering of one model: the names declared so far, the signals met so far, the
 /// lowered aliases, and the coefficient checks (with the alias they came from).
 pub struct Lower<'a> {
@@ -89,11 +97,10 @@ impl<'a> Lower<'a> {
         })
     }
 
-    /// The signals met, the aliases lowered (none marked used yet), and the
-    /// coefficient checks with the alias each came from.
-    pub fn finish(self) -> (Vec<SignalKey>, Vec<Alias>, Vec<(Option<usize>, Check)>) {
+    /// What was lowered besides the equations.
+    pub fn finish(self) -> Lowered {
         let aliases = self.aliases.into_iter().map(|(node, _)| Alias { node, used: false });
-        (self.signals, aliases.collect(), self.checks)
+        Lowered { signals: self.signals, aliases: aliases.collect(), checks: self.checks }
     }
 
     /// Reads linear forms with the names declared so far.
