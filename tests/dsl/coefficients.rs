@@ -262,3 +262,27 @@ fn the_command_line_reports_it_in_one_line() {
         "{err}"
     );
 }
+
+ihbm::oscillator! {
+    /// A coefficient of parameters alone that is not real for k < k0.
+    pub struct ParamOnly {
+        params { m = 1.0, k = 1.0, k0 = 2.0, F = 1.0 }
+        dofs { x }
+        equations { m * D(x, 2) + 0.1 * D(x, 1) + sqrt(k - k0) * x = F * cos(omega * t); }
+    }
+}
+
+/// Without Ω in its coefficients the model claims no explicit Ω, which `Balance::new`
+/// probes; a NaN coefficient must still be reported as itself, not as a wrong claim.
+#[test]
+fn a_parameter_only_coefficient_is_named_too() {
+    let m = ParamOnly::default();
+    assert!(!m.explicit_omega());
+    let e = solve(&m, 1.0, &SolveOptions::default(), None).unwrap_err();
+    assert!(
+        matches!(&e, Error::NonFiniteCoefficient { term, params, .. }
+            if term == "sqrt(k - k0)" && params == "k = 1, k0 = 2"),
+        "{e}"
+    );
+    assert!(solve(&ParamOnly { k: 3.0, ..m }, 1.0, &SolveOptions::default(), None).is_ok());
+}
