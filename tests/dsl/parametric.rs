@@ -6,13 +6,11 @@
 //! the alias-free sample count against a brute-force Galerkin projection.
 
 use crate::common::{fd_jacobian, rel_diff, residual, residual_jacobian};
-use crate::mathieu_model::{edge_near, tongue, MODEL};
+use crate::mathieu_model::{assert_period_doubles_on_the_edges, edge_near, MODEL};
 use ihbm::balance::Balance;
 use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
-use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::corrector::{solve, SolveOptions};
 use ihbm::fourier::{coeff_len, sample_count};
-use ihbm::results::BifurcationKind;
 use ihbm::Model;
 
 ihbm::oscillator! {
@@ -84,24 +82,10 @@ fn dsl_mathieu_is_the_hand_written_model() {
 }
 
 /// The tongue of the twin located by a sweep: its period-doubling points are the edges
-/// where the RK4 monodromy matrix has a multiplier −1.
+/// where the RK4 monodromy matrix has a multiplier −1, to 1e-8.
 #[test]
 fn dsl_mathieu_period_doubles_on_the_monodromy_edges() {
-    let edges = tongue();
-    assert_eq!(edges.len(), 2, "test setup: one tongue in range, got {edges:?}");
-    let opts = SweepOptions { harmonics: 12, ..Default::default() };
-    let curve = sweep(&twin(), 1.5, 2.6, &opts).unwrap();
-    assert!(curve.folds.is_empty());
-    let pd: Vec<f64> = curve
-        .bifurcations
-        .iter()
-        .filter(|b| b.kind == BifurcationKind::PeriodDoubling && b.located)
-        .map(|b| b.omega)
-        .collect();
-    assert_eq!(pd.len(), 2, "{:?}", curve.bifurcations);
-    for (g, e) in pd.iter().zip(&edges) {
-        assert!((g - e).abs() < 1e-8 * e, "period doubling at {g}, monodromy says {e}");
-    }
+    assert_period_doubles_on_the_edges(&twin());
 }
 
 /// The damped Ince–Strutt diagram: the twin's period-doubling curves in (Ω, ε) lie on

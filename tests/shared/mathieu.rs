@@ -5,7 +5,9 @@
 //! against one model. A test fixture, not shipped in the library.
 #![allow(dead_code)]
 
+use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+use ihbm::results::BifurcationKind;
 use num_dual::DualNum;
 use std::borrow::Cow::Borrowed;
 
@@ -102,46 +104,17 @@ pub fn monodromy_at(w: f64, eps: f64) -> (f64, f64) {
     (cols[0][0] + cols[1][1], cols[0][0] * cols[1][1] - cols[1][0] * cols[0][1])
 }
 
-/// The edges of the principal tongue of [`MODEL`] in Ω ∈ [1.5, 2.6]: a multiplier -1,
-/// i.e. 1 + trace + det = 0, by bisection.
-pub fn tongue() -> Vec<f64> {
-    let g = |w: f64| {
-        let (tr, det) = monodromy_at(w, MODEL.eps);
+/// `1 + trace + det` of the monodromy matrix at parametric amplitude `eps`: zero where
+/// a multiplier is −1 (a tongue edge).
+fn edge_function(eps: f64) -> impl Fn(f64) -> f64 {
+    move |w| {
+        let (tr, det) = monodromy_at(w, eps);
         1.0 + tr + det
-    };
-    let mut edges = Vec::new();
-    let n = 200;
-    let (lo, hi) = (1.5, 2.6);
-    let mut prev = (lo, g(lo));
-    for i in 1..=n {
-        let w = lo + (hi - lo) * i as f64 / n as f64;
-        let gw = g(w);
-        if gw.signum() != prev.1.signum() {
-            let (mut a, mut b) = (prev.0, w);
-            for _ in 0..60 {
-                let mid = 0.5 * (a + b);
-                if g(mid).signum() == g(a).signum() {
-                    a = mid;
-                } else {
-                    b = mid;
-                }
-            }
-            edges.push(0.5 * (a + b));
-        }
-        prev = (w, gw);
     }
-    edges
 }
 
-/// The tongue edge within 2e-3 of `w` at parametric amplitude `e` (bisection on
-/// `1 + trace + det`; panics if there is none, a test setup error).
-pub fn edge_near(w: f64, e: f64) -> f64 {
-    let g = |w: f64| {
-        let (tr, det) = monodromy_at(w, e);
-        1.0 + tr + det
-    };
-    let (mut a, mut b) = (w - 2e-3, w + 2e-3);
-    assert!(g(a) * g(b) < 0.0, "no edge near Ω = {w} at ε = {e}");
+/// The root of `g` in `[a, b]` (a sign change), by 60 bisections.
+fn bisect(g: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     for _ in 0..60 {
         let mid = 0.5 * (a + b);
         if g(mid).signum() == g(a).signum() {
@@ -151,4 +124,53 @@ pub fn edge_near(w: f64, e: f64) -> f64 {
         }
     }
     0.5 * (a + b)
+}
+
+/// The edges of the principal tongue of [`MODEL`] in Ω ∈ [1.5, 2.6]: a multiplier -1,
+/// i.e. 1 + trace + det = 0, by bisection.
+pub fn tongue() -> Vec<f64> {
+    let g = edge_function(MODEL.eps);
+    let mut edges = Vec::new();
+    let n = 200;
+    let (lo, hi) = (1.5, 2.6);
+    let mut prev = (lo, g(lo));
+    for i in 1..=n {
+        let w = lo + (hi - lo) * i as f64 / n as f64;
+        let gw = g(w);
+        if gw.signum() != prev.1.signum() {
+            edges.push(bisect(&g, prev.0, w));
+        }
+        prev = (w, gw);
+    }
+    edges
+}
+
+/// The tongue edge within 2e-3 of `w` at parametric amplitude `e` (panics if there is
+/// none, a test setup error).
+pub fn edge_near(w: f64, e: f64) -> f64 {
+    let g = edge_function(e);
+    let (a, b) = (w - 2e-3, w + 2e-3);
+    assert!(g(a) * g(b) < 0.0, "no edge near Ω = {w} at ε = {e}");
+    bisect(&g, a, b)
+}
+
+/// A sweep of `model` (the Mathieu equation with [`MODEL`]'s parameters, however
+/// written) through the tongue at N = 12: no fold, and two period-doubling points,
+/// each located to 1e-8 at the monodromy edges ([`tongue`]).
+pub fn assert_period_doubles_on_the_edges<M: Model>(model: &M) {
+    let edges = tongue();
+    assert_eq!(edges.len(), 2, "test setup: one tongue in range, got {edges:?}");
+    let opts = SweepOptions { harmonics: 12, ..Default::default() };
+    let curve = sweep(model, 1.5, 2.6, &opts).unwrap();
+    assert!(curve.folds.is_empty());
+    let pd: Vec<f64> = curve
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::PeriodDoubling && b.located)
+        .map(|b| b.omega)
+        .collect();
+    assert_eq!(pd.len(), 2, "{:?}", curve.bifurcations);
+    for (g, e) in pd.iter().zip(&edges) {
+        assert!((g - e).abs() < 1e-8 * e, "period doubling at {g}, monodromy says {e}");
+    }
 }

@@ -7,7 +7,9 @@
 
 use crate::common as stability_common;
 
-use crate::mathieu_model::{edge_near, monodromy_at, tongue, MODEL};
+use crate::mathieu_model::{
+    assert_period_doubles_on_the_edges, edge_near, monodromy_at, tongue, MODEL,
+};
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::model::Model;
@@ -59,19 +61,7 @@ fn mathieu_tongue_is_period_doubling_without_fold() {
 /// tolerance: located to 1e-8 against the monodromy edges once N resolves them.
 #[test]
 fn period_doubling_is_located_to_1e_8_with_enough_harmonics() {
-    let edges = tongue();
-    let opts = SweepOptions { harmonics: 12, ..Default::default() };
-    let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
-    let pd: Vec<f64> = curve
-        .bifurcations
-        .iter()
-        .filter(|b| b.kind == BifurcationKind::PeriodDoubling && b.located)
-        .map(|b| b.omega)
-        .collect();
-    assert_eq!(pd.len(), 2, "{:?}", curve.bifurcations);
-    for (g, e) in pd.iter().zip(&edges) {
-        assert!((g - e).abs() < 1e-8 * e, "period doubling at {g}, monodromy says {e}");
-    }
+    assert_period_doubles_on_the_edges(&MODEL);
 }
 
 #[test]

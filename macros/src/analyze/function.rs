@@ -20,9 +20,7 @@ impl Lower<'_> {
     /// `f(arg)` (written `f(arg)` or `arg.f()`, the whole call `e`): `arg` must be a
     /// coefficient.
     pub(super) fn function(&mut self, e: &Expr, f: Func, arg: &Expr) -> syn::Result<(Node, Info)> {
-        let (node, info) = self.value(arg)?;
-        self.coefficient_operand(e, arg, info)?;
-        let node = Node::Func(f, Box::new(node));
+        let node = Node::Func(f, Box::new(self.coefficient(e, arg)?));
         // sin, cos and abs of a finite number are finite: only the others can fail.
         if !matches!(f, Func::Sin | Func::Cos | Func::Abs) {
             self.check(show(e), &node);
@@ -40,10 +38,8 @@ impl Lower<'_> {
         let [exponent] = args else {
             return err(Sp::of(&e), "`.powf(q)` takes one argument, a coefficient");
         };
-        let (b, bi) = self.value(base)?;
-        self.coefficient_operand(e, base, bi)?;
-        let (q, qi) = self.value(exponent)?;
-        self.coefficient_operand(e, exponent, qi)?;
+        let b = self.coefficient(e, base)?;
+        let q = self.coefficient(e, exponent)?;
         let node = Node::Powf(Box::new(b), Box::new(q));
         self.check(show(e), &node);
         Ok((node, Info::default()))
@@ -100,8 +96,10 @@ impl Lower<'_> {
         }
     }
 
-    /// An argument of a coefficient function must hold neither DOFs nor forcing.
-    fn coefficient_operand(&self, e: &Expr, arg: &Expr, info: Info) -> syn::Result<()> {
+    /// `arg`, an operand of the coefficient function `e`, lowered: it must hold neither
+    /// DOFs nor forcing.
+    fn coefficient(&mut self, e: &Expr, arg: &Expr) -> syn::Result<Node> {
+        let (node, info) = self.value(arg)?;
         if info.dof.is_some() {
             return err(
                 Sp::of(&e),
@@ -127,7 +125,7 @@ impl Lower<'_> {
                 ),
             );
         }
-        Ok(())
+        Ok(node)
     }
 
     /// Record `node` (a coefficient) for the run-time check, aliases expanded.
