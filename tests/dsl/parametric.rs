@@ -6,9 +6,10 @@
 //! the alias-free sample count against a brute-force Galerkin projection.
 
 use crate::common::{fd_jacobian, rel_diff, residual, residual_jacobian};
-use crate::mathieu_model::{assert_period_doubles_on_the_edges, edge_near, MODEL};
+use crate::mathieu_model::{
+    assert_period_doubles_on_the_edges, assert_period_doubling_curves_on_the_edges, MODEL,
+};
 use ihbm::balance::Balance;
-use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
 use ihbm::corrector::{solve, SolveOptions};
 use ihbm::fourier::{coeff_len, sample_count};
 use ihbm::Model;
@@ -92,22 +93,7 @@ fn dsl_mathieu_period_doubles_on_the_monodromy_edges() {
 /// the monodromy edges at that ε, to 1e-8.
 #[test]
 fn dsl_mathieu_tongue_in_two_parameters_is_the_ince_strutt_boundary() {
-    let mut opts =
-        FoldCurveOptions { boundary: Boundary::PeriodDoubling, ..FoldCurveOptions::default() };
-    opts.sweep.harmonics = 12;
-    opts.omega = (1.5, 2.6);
-    let dsl = twin();
-    let eps = dsl.param_index("eps").unwrap();
-    let res = fold_curves(&dsl, eps, 0.3, 0.6, &opts).unwrap();
-    assert_eq!(res.curves.len(), 2);
-    for c in &res.curves {
-        assert_eq!(c.ended.to_string(), "reached end");
-        let n = c.points.len();
-        for p in [&c.points[n / 4], &c.points[n / 2], &c.points[3 * n / 4]] {
-            let e = edge_near(p.omega, p.value);
-            assert!((p.omega - e).abs() < 1e-8 * e, "ε = {}: Ω = {} vs {e}", p.value, p.omega);
-        }
-    }
+    assert_period_doubling_curves_on_the_edges(&twin());
 }
 
 /// The residual's Fourier coefficients by brute force: the model evaluated on `q`

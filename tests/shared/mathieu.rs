@@ -5,6 +5,7 @@
 //! against one model. A test fixture, not shipped in the library.
 #![allow(dead_code)]
 
+use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::results::BifurcationKind;
@@ -147,7 +148,7 @@ pub fn tongue() -> Vec<f64> {
 
 /// The tongue edge within 2e-3 of `w` at parametric amplitude `e` (panics if there is
 /// none, a test setup error).
-pub fn edge_near(w: f64, e: f64) -> f64 {
+fn edge_near(w: f64, e: f64) -> f64 {
     let g = edge_function(e);
     let (a, b) = (w - 2e-3, w + 2e-3);
     assert!(g(a) * g(b) < 0.0, "no edge near Ω = {w} at ε = {e}");
@@ -172,5 +173,38 @@ pub fn assert_period_doubles_on_the_edges<M: Model>(model: &M) {
     assert_eq!(pd.len(), 2, "{:?}", curve.bifurcations);
     for (g, e) in pd.iter().zip(&edges) {
         assert!((g - e).abs() < 1e-8 * e, "period doubling at {g}, monodromy says {e}");
+    }
+}
+
+/// The period-doubling boundary of `model` (as for [`assert_period_doubles_on_the_edges`])
+/// continued in (Ω, ε) for ε from 0.3 to 0.6 is the tongue's edge — the damped
+/// Ince–Strutt diagram: at points of each curve, the monodromy matrix at that ε has a
+/// multiplier −1 at that Ω ([`edge_near`]), to 1e-8.
+pub fn assert_period_doubling_curves_on_the_edges<M: Model + Clone>(model: &M) {
+    let mut opts =
+        FoldCurveOptions { boundary: Boundary::PeriodDoubling, ..FoldCurveOptions::default() };
+    opts.sweep.harmonics = 12;
+    opts.omega = (1.5, 2.6);
+    let eps = model.param_index("eps").unwrap();
+    let res = fold_curves(model, eps, 0.3, 0.6, &opts).unwrap();
+    assert_eq!(res.start_folds, (2, 2), "two edges at both ends");
+    assert_eq!(
+        res.curves.len(),
+        2,
+        "{:?}",
+        res.curves.iter().map(|c| &c.ended).collect::<Vec<_>>()
+    );
+    for c in &res.curves {
+        assert_eq!(c.ended.to_string(), "reached end");
+        let n = c.points.len();
+        for p in [&c.points[n / 4], &c.points[n / 2], &c.points[3 * n / 4]] {
+            let e = edge_near(p.omega, p.value);
+            assert!(
+                (p.omega - e).abs() < 1e-8 * e,
+                "ε = {}: Ω = {} vs monodromy {e}",
+                p.value,
+                p.omega
+            );
+        }
     }
 }

@@ -8,11 +8,11 @@
 use crate::common as stability_common;
 
 use crate::mathieu_model::{
-    assert_period_doubles_on_the_edges, edge_near, monodromy_at, tongue, MODEL,
+    assert_period_doubles_on_the_edges, assert_period_doubling_curves_on_the_edges, monodromy_at,
+    tongue, MODEL,
 };
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
-use ihbm::model::Model;
 use ihbm::results::BifurcationKind;
 use ihbm::stability::{Hill, StabilityOptions};
 
@@ -96,31 +96,5 @@ fn tracking_agrees_with_the_full_analysis_through_the_tongue() {
 /// edge found by bisection on `1 + tr + det`), to 1e-8.
 #[test]
 fn period_doubling_curves_are_the_tongue_edges_of_the_monodromy() {
-    use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
-    let mut opts =
-        FoldCurveOptions { boundary: Boundary::PeriodDoubling, ..FoldCurveOptions::default() };
-    opts.sweep.harmonics = 12;
-    opts.omega = (1.5, 2.6);
-    let eps = MODEL.param_index("eps").unwrap();
-    let res = fold_curves(&MODEL, eps, 0.3, 0.6, &opts).unwrap();
-    assert_eq!(res.start_folds, (2, 2), "two edges at both ends");
-    assert_eq!(
-        res.curves.len(),
-        2,
-        "{:?}",
-        res.curves.iter().map(|c| &c.ended).collect::<Vec<_>>()
-    );
-    for c in &res.curves {
-        assert_eq!(c.ended.to_string(), "reached end");
-        let n = c.points.len();
-        for p in [&c.points[n / 4], &c.points[n / 2], &c.points[3 * n / 4]] {
-            let e = edge_near(p.omega, p.value);
-            assert!(
-                (p.omega - e).abs() < 1e-8 * e,
-                "ε = {}: Ω = {} vs monodromy {e}",
-                p.value,
-                p.omega
-            );
-        }
-    }
+    assert_period_doubling_curves_on_the_edges(&MODEL);
 }

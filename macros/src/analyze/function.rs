@@ -22,10 +22,10 @@ impl Lower<'_> {
     pub(super) fn function(&mut self, e: &Expr, f: Func, arg: &Expr) -> syn::Result<(Node, Info)> {
         let node = Node::Func(f, Box::new(self.coefficient(e, arg)?));
         // sin, cos and abs of a finite number are finite: only the others can fail.
-        if !matches!(f, Func::Sin | Func::Cos | Func::Abs) {
-            self.check(show(e), &node);
+        if matches!(f, Func::Sin | Func::Cos | Func::Abs) {
+            return Ok((node, Info::default()));
         }
-        Ok((node, Info::default()))
+        self.checked(e, node)
     }
 
     /// `base.powf(exponent)` (the whole call `e`), both coefficients.
@@ -40,9 +40,7 @@ impl Lower<'_> {
         };
         let b = self.coefficient(e, base)?;
         let q = self.coefficient(e, exponent)?;
-        let node = Node::Powf(Box::new(b), Box::new(q));
-        self.check(show(e), &node);
-        Ok((node, Info::default()))
+        self.checked(e, Node::Powf(Box::new(b), Box::new(q)))
     }
 
     /// `base.powi(-k)` (the whole call `e`) of a coefficient: `1 / base^k`.
@@ -64,9 +62,7 @@ impl Lower<'_> {
                 ),
             );
         }
-        let node = Node::Div(Box::new(Node::Lit(1.0)), Box::new(Node::Powi(Box::new(b), k)));
-        self.check(show(e), &node);
-        Ok((node, Info::default()))
+        self.checked(e, Node::Div(Box::new(Node::Lit(1.0)), Box::new(Node::Powi(Box::new(b), k))))
     }
 
     /// A division `whole` = `node` by `d` (lowered to `dn`) may divide by zero: check
@@ -126,6 +122,12 @@ impl Lower<'_> {
             );
         }
         Ok(node)
+    }
+
+    /// `node`, the coefficient `e`, recorded for the run-time check.
+    fn checked(&mut self, e: &Expr, node: Node) -> syn::Result<(Node, Info)> {
+        self.check(show(e), &node);
+        Ok((node, Info::default()))
     }
 
     /// Record `node` (a coefficient) for the run-time check, aliases expanded.
