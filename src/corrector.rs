@@ -169,6 +169,7 @@ pub fn solve<M: Model>(
         });
     }
     let mut hb = Balance::with_period(model, opts.harmonics, opts.period)?;
+    hb.check_coefficients(omega)?;
     let len = hb.len();
     // the linearized guess computes R(0) on the way; with a user guess it costs one
     // residual evaluation

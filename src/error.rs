@@ -80,6 +80,22 @@ pub enum Error {
         /// See `from`.
         to: f64,
     },
+    /// A coefficient of the model (a function of parameters and Ω) is NaN or infinite
+    /// where the model is evaluated: a square root of a negative number, a logarithm
+    /// of a non-positive one, a division by zero.
+    #[error("model '{model}': the coefficient `{term}` is {value} at Ω = {omega} rad/s ({params}); a coefficient must be finite wherever the model is evaluated: choose a frequency range and parameter values where it is defined")]
+    NonFiniteCoefficient {
+        /// The model's name.
+        model: String,
+        /// The coefficient's source text.
+        term: String,
+        /// Its value (NaN or ±inf).
+        value: f64,
+        /// The frequency where it was evaluated (rad/s).
+        omega: f64,
+        /// The parameters it reads, `name = value, ...` ("none" if it reads none).
+        params: String,
+    },
     /// Newton did not converge; the last iterate is kept.
     #[error("Newton did not converge at omega = {omega} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept")]
     NotConverged {

@@ -10,6 +10,7 @@
 //! eq. (27a) swaps `cos(pπ/2)` and `sin(pπ/2)`, and `0^p` is 1 only for p = 0).
 
 use crate::error::{Error, Result};
+use crate::model::Model;
 use num_complex::Complex64;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::f64::consts::PI;
@@ -53,8 +54,36 @@ pub fn fast_size(n: usize) -> usize {
 /// assert_eq!(ihbm::fourier::sample_count(3, 5, 1), 24);
 /// ```
 pub fn sample_count(degree: usize, harmonics: usize, max_forcing: usize) -> usize {
+    samples(degree, harmonics, max_forcing, 0)
+}
+
+/// The alias-free sample count of `model`'s balance with `harmonics` harmonics of
+/// `Ω / period`: [`sample_count`], and with parametric excitation
+/// ([`Model::parametric_harmonic`] `= k`) products of degree `d` that have harmonics up
+/// to `d·N + k` need `M >= (d + 1) N + k + 1`. The harmonic balance and Hill's method
+/// both take it, so that they sample alike.
+///
+/// ```
+/// # use ihbm::fourier::{model_sample_count, sample_count};
+/// use ihbm::models::Duffing;
+/// // no parametric term: the same as sample_count
+/// assert_eq!(model_sample_count(&Duffing::default(), 5, 1), sample_count(3, 5, 1));
+/// ```
+pub fn model_sample_count<M: Model + ?Sized>(model: &M, harmonics: usize, period: usize) -> usize {
+    let period = period.max(1);
+    samples(
+        model.degree(),
+        harmonics,
+        model.max_forcing_harmonic().saturating_mul(period),
+        model.parametric_harmonic().saturating_mul(period),
+    )
+}
+
+/// `M >= max((d + 1) N + k_p + 1, N + k_f + 1, 2N + 1)`, rounded up to a fast size.
+fn samples(degree: usize, harmonics: usize, max_forcing: usize, parametric: usize) -> usize {
     // Saturating: an absurd N must not wrap around into a small sample count.
-    let alias_free = (degree.max(1) + 1).saturating_mul(harmonics).saturating_add(1);
+    let alias_free =
+        (degree.max(1) + 1).saturating_mul(harmonics).saturating_add(parametric).saturating_add(1);
     let forced = harmonics.saturating_add(max_forcing).saturating_add(1);
     fast_size(alias_free.max(forced).max(harmonics.saturating_mul(2).saturating_add(1)))
 }

@@ -150,9 +150,20 @@ pub trait Model: Send + Sync {
     /// a cubic spring). Sets the alias-free sample count.
     fn degree(&self) -> usize;
 
-    /// The highest harmonic of the forcing (`cos(k Ω t)` with `k` up to this).
+    /// The highest harmonic of the time dependence (`cos(k Ω t)` with `k` up to this),
+    /// forcing and parametric terms alike. Fewer harmonics than this are refused.
     fn max_forcing_harmonic(&self) -> usize {
         1
+    }
+
+    /// The highest harmonic `k` of a time-varying factor `cos/sin(kΩt)` that multiplies
+    /// signals (parametric excitation: a stiffness `k (1 + ε cos 2Ωt)`), 0 (the
+    /// default) if there is none. Such a product of signals of total degree up to
+    /// [`Model::degree`] has harmonics up to `degree·N + k`, which the sample count
+    /// keeps alias-free ([`crate::fourier::model_sample_count`]). A value too low
+    /// makes the projection alias without an error, like a degree too low.
+    fn parametric_harmonic(&self) -> usize {
+        0
     }
 
     /// The equations as text, for `ihbm models NAME`.
@@ -196,6 +207,17 @@ pub trait Model: Send + Sync {
         signals: &[D],
         out: &mut [D],
     );
+
+    /// Check that every coefficient is finite at parameters `params` and frequency
+    /// `omega` (a coefficient may be any smooth expression of them, `sqrt(k - m Ω²)`,
+    /// `1 / Ω`, `ln(a)`): an error naming the first that is not, instead of a residual
+    /// full of NaN. The solvers call it at every point where they evaluate the model
+    /// (the corrector, each continuation step, the time integrator). The default
+    /// accepts every point; `oscillator!` generates it from the equations.
+    fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
+        let _ = (params, omega);
+        Ok(())
+    }
 
     /// Index of the parameter called `name`.
     fn param_index(&self, name: &str) -> Result<usize, Error> {

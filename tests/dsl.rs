@@ -7,15 +7,21 @@
 
 #[path = "dsl/codegen.rs"]
 mod codegen;
+#[path = "dsl/coefficients.rs"]
+mod coefficients;
 #[path = "dsl/common.rs"]
 mod common;
 #[path = "dsl/equivalence.rs"]
 mod equivalence;
 #[path = "dsl/handwritten.rs"]
 mod handwritten;
+#[path = "shared/mathieu.rs"]
+mod mathieu_model;
 #[path = "dsl/models.rs"]
 mod models;
 #[path = "dsl/nonlinear.rs"]
 mod nonlinear;
+#[path = "dsl/parametric.rs"]
+mod parametric;
 #[path = "dsl/timedomain.rs"]
 mod timedomain;

@@ -12,6 +12,8 @@ mod common;
 mod fractional;
 #[path = "stability/mathieu.rs"]
 mod mathieu;
+#[path = "shared/mathieu.rs"]
+mod mathieu_model;
 #[path = "stability/scale.rs"]
 mod scale;
 #[path = "stability/timedomain.rs"]

@@ -1,6 +1,7 @@
 //! Symbolic analysis: resolve names, expand `let` aliases, check that every equation is
-//! polynomial in the signals with forcing only as `cos/sin(k * omega * t)` times
-//! coefficients, and collect the distinct signals. This module only orchestrates; each
+//! polynomial in the signals with time only in `cos/sin(k * omega * t)` (times
+//! coefficients or DOF terms) and coefficients smooth functions of the parameters and
+//! Ω, and collect the distinct signals and the coefficients to check at run time. This module only orchestrates; each
 //! step is a module of its own.
 //!
 //! Every rejection is a `syn::Error` spanned on the offending token, with a message that
@@ -11,6 +12,7 @@ mod coeff;
 mod compact;
 mod diag;
 mod forcing;
+mod function;
 mod linear;
 mod lower;
 mod outputs;
@@ -20,7 +22,7 @@ mod syntax;
 mod tree;
 
 pub use syntax::show;
-pub use tree::{Analysis, Node, OrderKey, Trig};
+pub use tree::{Analysis, Check, Node, OrderKey, Trig};
 
 use crate::parse::ModelDef;
 use diag::err;
@@ -55,9 +57,16 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
     }
     let equations = def.equations.iter().map(|eq| lower.equation(eq)).collect::<Result<_, _>>()?;
     let outputs = outputs::outputs(def, &lower.linear())?;
-    let (signals, aliases) = lower.finish();
-    let mut a = Analysis { signals, aliases, equations, outputs };
+    let lower::Lowered { signals, aliases, checks } = lower.finish();
+    let mut a = Analysis { signals, aliases, equations, outputs, checks: Vec::new() };
     compact::compact(&mut a);
+    // Only what the residual evaluates is checked, each text once.
+    for (alias, check) in checks {
+        let used = alias.is_none_or(|i| a.aliases[i].used);
+        if used && !a.checks.iter().any(|c| c.text == check.text) {
+            a.checks.push(check);
+        }
+    }
     Ok(a)
 }
 
@@ -97,6 +106,46 @@ mod tests {
         );
         let shape = a.shape();
         assert_eq!((shape.degree, shape.max_harmonic), (3, 3));
+    }
+
+    #[test]
+    fn coefficient_functions_are_checked_innermost_first_once_and_only_if_used() {
+        let a = analyze_str(
+            "struct S { params { k = 1.0, m = 1.0, tau = 0.1 } dofs { x }
+               let kd = sqrt(k - m * omega.powi(2));
+               let unused = ln(tau);
+               equations {
+                 D(x, 2) + kd * x + k / (omega - tau) * x + omega.powi(-1) * x.powi(3)
+                   + (omega * tau).cos() * x + kd.exp() * D(x, 1) + sqrt(k - m * omega.powi(2)) * x
+                   = cos(omega * tau) * cos(omega * t);
+               } }",
+        )
+        .unwrap();
+        let texts: Vec<&str> = a.checks.iter().map(|c| c.text.as_str()).collect();
+        // cos of a finite number needs no check; `ln(tau)` is in an unused alias; the
+        // second `sqrt(...)` is the same text as the alias's.
+        assert_eq!(
+            texts,
+            ["sqrt(k - m * omega.powi(2))", "k / (omega - tau)", "omega.powi(-1)", "kd.exp()",]
+        );
+        // Aliases are expanded: the check reads parameters and Ω only.
+        fn has_alias(n: &Node) -> bool {
+            let mut found = matches!(n, Node::Alias(_));
+            n.for_each_child(|c| found |= has_alias(c));
+            found
+        }
+        assert!(a.checks.iter().all(|c| !has_alias(&c.node)));
+    }
+
+    #[test]
+    fn a_dof_quotient_checks_the_reciprocal_of_its_divisor() {
+        let a = analyze_str(
+            "struct S { params { k = 1.0, w = 2.0 } dofs { x }
+               equations { D(x, 2) + x / (omega - w) + x / k + x / 2.0 = 0.0; } }",
+        )
+        .unwrap();
+        let texts: Vec<&str> = a.checks.iter().map(|c| c.text.as_str()).collect();
+        assert_eq!(texts, ["1 / (omega - w)", "1 / k"]);
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! Code generation: the struct, `Default`, and the `Model` impl, each piece from a
 //! function of its own; the residual, the one piece that is computed per sample, is
-//! in `residual`.
+//! in `residual`, and the run-time check of the coefficients in `check`.
 
+mod check;
 mod residual;
 
 use crate::analyze::{show, Analysis, OrderKey};
@@ -19,6 +20,8 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
     let metadata = metadata(def, a, &model_name, &eq_text);
     let params = param_access(def, &model_name);
     let residual = residual::residual(a);
+    let names: Vec<String> = def.params.iter().map(|p| p.name.to_string()).collect();
+    let check = check::check_coefficients(&a.checks, &names);
     quote! {
         #item
 
@@ -27,6 +30,7 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
             #metadata
             #params
             #residual
+            #check
         }
     }
 }
@@ -196,6 +200,7 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
     let degree = shape.degree as usize;
     // An unforced model reports 1, as the trait does by default.
     let max_k = shape.max_harmonic.max(1) as usize;
+    let parametric = shape.parametric_harmonic as usize;
     let (affine, explicit_omega) = (shape.affine, shape.explicit_omega);
     quote! {
         fn name(&self) -> &str {
@@ -226,6 +231,9 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         }
         fn max_forcing_harmonic(&self) -> usize {
             #max_k
+        }
+        fn parametric_harmonic(&self) -> usize {
+            #parametric
         }
         fn affine_signals(&self) -> &[bool] {
             &[#(#affine),*]

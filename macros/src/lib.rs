@@ -43,10 +43,18 @@ use proc_macro::TokenStream;
 ///   DOF, an alias of a linear combination, or a linear combination with
 ///   parameter/literal coefficients). A combination with literal coefficients is one
 ///   signal (`D(z1 - z2, p)`); parameter coefficients are pulled outside;
-/// - coefficients are parameters, numeric literals and `omega` (the forcing frequency
-///   Ω, e.g. an unbalance force `m * e * omega.powi(2) * cos(omega * t)`);
+/// - coefficients are smooth expressions of parameters, numeric literals and `omega`
+///   (the forcing frequency Ω): `+ - * /`, `.powi(k)` (any integer literal k),
+///   `.powf(q)`, and `sqrt`, `exp`, `ln`, `sin`, `cos`, `tan`, `abs`, written `f(e)` or
+///   `e.f()` (an unbalance `m * e * omega.powi(2) * cos(omega * t)`, a delayed road
+///   input `F * cos(omega * tau) * cos(omega * t)`). A function never takes a DOF or
+///   forcing; inside `D(e, n)` and outputs coefficients stay products of parameters,
+///   literals and powers of `omega`. The generated `Model::check_coefficients` names a
+///   coefficient that is NaN or infinite where the solvers evaluate it;
 /// - forcing is `cos(k * omega * t)` / `sin(k * omega * t)` with `k` a positive integer
-///   literal (`k *` optional), multiplied by coefficients only;
+///   literal (`k *` optional), multiplied by coefficients, or by DOF terms (parametric
+///   excitation, `k * (1.0 + eps * cos(2 * omega * t)) * x`; one harmonic per product,
+///   counted in `Model::parametric_harmonic`);
 /// - `omega`, `t` and `D` are reserved names; every name is declared once.
 ///
 /// Anything else is a compile error spanned on the offending code, saying what is

@@ -13,7 +13,7 @@
 //! it, so a block costs `O(N²)` instead of a dense `O(N² M)` sample sum.
 
 use crate::error::{Error, Result};
-use crate::fourier::{apply_factor, coeff_len, sample_count, spectral_factor, Fourier};
+use crate::fourier::{apply_factor, coeff_len, model_sample_count, spectral_factor, Fourier};
 use crate::model::{Model, Order};
 use faer::prelude::ReborrowMut;
 use faer::MatMut;
@@ -170,7 +170,7 @@ impl<'m, M: Model> Balance<'m, M> {
                 )));
             }
         }
-        let m = sample_count(model.degree(), harmonics, kf);
+        let m = model_sample_count(model, harmonics, period);
         let fourier = Fourier::new(harmonics, m)?;
         let phases: Vec<f64> = fourier.phases().iter().map(|p| p * period as f64).collect();
         let l = coeff_len(harmonics);
@@ -227,6 +227,12 @@ impl<'m, M: Model> Balance<'m, M> {
         }
         self.sig_valid = false;
         self.grad_valid = false;
+    }
+
+    /// [`Model::check_coefficients`] at the current parameters and `omega` (the
+    /// balance's frequency argument, `Ω / period`): every coefficient finite.
+    pub fn check_coefficients(&self, omega: f64) -> Result<()> {
+        self.model.check_coefficients(&self.params, omega * self.period)
     }
 
     /// Length of the unknown vector: `ndof · (2N + 1)`.

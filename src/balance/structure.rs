@@ -46,7 +46,9 @@ impl<M: Model> Balance<'_, M> {
                     *d = Dual64::from_re(v);
                 }
                 model.residual(&params, Dual64::new(omega, 1.0), phase, &sig, &mut out);
-                if let Some(e) = (0..ndof).find(|&e| out[e].eps != 0.0) {
+                // A NaN is no evidence either way: a coefficient undefined at these
+                // parameters, which `Model::check_coefficients` reports by name.
+                if let Some(e) = (0..ndof).find(|&e| out[e].eps != 0.0 && !out[e].eps.is_nan()) {
                     return Err(Error::Other(format!(
                         "model '{}' says explicit_omega() == false, but equation {e} changes with Ω at \
                          fixed signals; return true (the default)",

@@ -151,7 +151,18 @@ impl<'m, M: Model> Continuation<'m, M> {
         opts: &SweepOptions,
     ) -> Result<Self> {
         let nh = opts.harmonics;
-        let bal = Balance::with_period(model, nh, opts.period)?;
+        let mut bal = Balance::with_period(model, nh, opts.period)?;
+        // A coefficient undefined at an end of the range is an error before any step
+        // (inside the range, it ends the segment: `Tracer::assemble`).
+        for end in [lo, hi] {
+            match axis {
+                Axis::Omega => bal.check_coefficients(end)?,
+                Axis::Param { index, omega } => {
+                    bal.set_param(index, end);
+                    bal.check_coefficients(omega)?;
+                }
+            }
+        }
         let mut tr = Tracer::new(bal, axis, opts.tol, opts.max_iter);
         let n = tr.n;
         tr.sl = hi - lo;

@@ -115,7 +115,8 @@ impl<'m, M: Model> Tracer<'m, M> {
 
     /// Unscaled coefficients of `y` into `self.a`, the parameter into `bal`; Ω. A
     /// parameter outside the range being traced (an iterate that overshoots, or Ω
-    /// that would turn negative) is an error: the model is never evaluated there.
+    /// that would turn negative), or a point where a coefficient of the model is not
+    /// finite, is an error: the model is never evaluated there.
     fn unscale(&mut self, y: &[f64]) -> Result<f64, String> {
         let n = self.n;
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
@@ -128,13 +129,16 @@ impl<'m, M: Model> Tracer<'m, M> {
         if !(lam >= lo - slack && lam <= hi + slack) {
             return Err(format!("an iterate left the range [{lo}, {hi}] (at {lam:.6e})"));
         }
-        Ok(match self.axis {
+        let omega = match self.axis {
             Axis::Omega => lam,
             Axis::Param { index, omega } => {
                 self.bal.set_param(index, lam);
                 omega
             }
-        })
+        };
+        // A coefficient that is not finite here ends the segment, naming it.
+        self.bal.check_coefficients(omega).map_err(|e| e.to_string())?;
+        Ok(omega)
     }
 
     /// `y -= rhs` (the solved update); its max-norm, which must be finite. (`f64::max`

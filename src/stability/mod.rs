@@ -202,11 +202,7 @@ impl Hill {
         crate::balance::check_size(ndof, harmonics)?;
         let len = 2 * harmonics + 1;
         let m = ndof * len;
-        let samples = crate::fourier::sample_count(
-            model.degree(),
-            harmonics,
-            model.max_forcing_harmonic() * period.max(1),
-        );
+        let samples = crate::fourier::model_sample_count(model, harmonics, period);
         let mut degree = 0usize;
         let mut fractional = false;
         let signals: Vec<_> = model

@@ -163,6 +163,7 @@ impl<'m, M: Model> Stepper<'m, M> {
             });
         }
         let params_f = model.param_values();
+        model.check_coefficients(&params_f, omega)?;
         let dt = opts.dt;
         let mut kinds = Vec::new();
         let mut histories = Vec::new();

@@ -81,6 +81,7 @@ mod tests {
                 Node::Sub(b(Node::Signal(3)), b(Node::Signal(2))),
             ],
             outputs: Vec::new(),
+            checks: Vec::new(),
         };
         compact(&mut a);
         // First use: s2 (eq 0), then inside alias 2 → alias 0: s1, s3. s0 is never used.

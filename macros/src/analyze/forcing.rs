@@ -1,5 +1,5 @@
-//! Forcing: the argument of `cos(...)` / `sin(...)` must be `k * omega * t` with `k` a
-//! positive integer literal, so that the forcing is periodic with the period 2π/Ω the
+//! Forcing: the argument of `cos(...)` / `sin(...)` that names `t` must be
+//! `k * omega * t` with `k` a positive integer literal, so that the forcing is periodic with the period 2π/Ω the
 //! harmonic balance assumes. Everything else gets a message naming what forcing may be.
 
 use super::diag::{err, Sp};
@@ -12,11 +12,11 @@ pub fn harmonic(arg: &Expr, call_span: Sp, call_text: &str) -> syn::Result<u32> 
         err(
             call_span,
             format!(
-                "`{call_text}` is not allowed: `cos`/`sin` may only be forcing \
-                 `cos(k * omega * t)` / `sin(k * omega * t)` with k a positive integer \
-                 literal (`k *` optional), times coefficients; a trigonometric function of \
-                 DOFs is not polynomial, and a phase shift is written \
-                 `A * cos(omega * t) + B * sin(omega * t)`"
+                "`{call_text}` is not allowed: with `t` in its argument `cos`/`sin` is \
+                 forcing, which must be `cos(k * omega * t)` / `sin(k * omega * t)` with k a \
+                 positive integer literal (`k *` optional); a phase shift or a delay is \
+                 written `A * cos(omega * t) + B * sin(omega * t)` with coefficients A, B \
+                 (e.g. `cos(omega * tau)`)"
             ),
         )
     };

@@ -7,8 +7,8 @@
 use super::coeff::{Atom, CoefPoly, NoRecip};
 use super::diag::{err, Sp};
 use super::scope::{Name, Scope};
-use super::syntax::{ident_of, powi_exponent, show};
-use super::tree::Terms;
+use super::syntax::{ident_of, mentions_t, powi_exponent, show};
+use super::tree::{Func, Terms};
 use crate::parse::{literal_value, LetDecl};
 use std::collections::BTreeMap;
 use syn::{BinOp, Expr, UnOp};
@@ -115,6 +115,21 @@ fn not_linear<T>(e: &Expr, why: &str) -> syn::Result<T> {
     )
 }
 
+/// The error for a coefficient function inside a linear form: the factors a signal
+/// is split by are monomials, so a function must stand outside `D`.
+fn function_inside<T>(e: &Expr) -> syn::Result<T> {
+    err(
+        Sp::of(&e),
+        format!(
+            "`{}`: inside `D(...)` and outputs a coefficient must be a product of \
+             parameters, literals and powers of omega; write a function of coefficients \
+             outside, e.g. `cos(omega * tau) * D(x, 1)` rather than \
+             `D(cos(omega * tau) * x, 1)`",
+            show(e)
+        ),
+    )
+}
+
 impl LinearReader<'_> {
     /// The linear form of `e` in the DOFs (for `D` arguments and outputs).
     pub fn read(&self, e: &Expr) -> syn::Result<Lin> {
@@ -155,8 +170,20 @@ impl LinearReader<'_> {
             Expr::Call(c) if ident_of(&c.func).is_some_and(|i| i == "D") => {
                 not_linear(e, "nested derivatives are not supported")
             }
-            Expr::Call(c) if ident_of(&c.func).is_some_and(|i| i == "cos" || i == "sin") => {
+            Expr::Call(c)
+                if ident_of(&c.func).is_some_and(|i| i == "cos" || i == "sin") && mentions_t(e) =>
+            {
                 not_linear(e, "forcing is not a DOF term")
+            }
+            Expr::Call(c)
+                if ident_of(&c.func).is_some_and(|i| Func::named(&i.to_string()).is_some()) =>
+            {
+                function_inside(e)
+            }
+            Expr::MethodCall(m)
+                if m.method == "powf" || Func::named(&m.method.to_string()).is_some() =>
+            {
+                function_inside(e)
             }
             other => not_linear(other, "unsupported expression"),
         }
@@ -236,7 +263,16 @@ mod tests {
         assert!(l.konst.is_zero() && l.has_dofs());
         assert!(!read("x - x").unwrap().has_dofs());
         assert!(read("x / a.powi(2)").unwrap().has_dofs());
-        for bad in ["x * y", "x.powi(2)", "x / y", "x / (a + 1.0)", "cos(omega * t)"] {
+        for bad in [
+            "x * y",
+            "x.powi(2)",
+            "x / y",
+            "x / (a + 1.0)",
+            "cos(omega * t)",
+            "cos(omega * a) * x",
+            "a.sqrt() * x",
+            "x * a.powf(0.5)",
+        ] {
             assert!(read(bad).is_err(), "{bad}");
         }
         let e = read("x / (a - a)").unwrap_err().to_string();

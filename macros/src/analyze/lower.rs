@@ -1,15 +1,18 @@
 //! Lowering: each equation and alias, read in value context, becomes a [`Node`] tree
 //! over numbered signals, with the checks that keep the model polynomial in the signals
-//! and its forcing `cos/sin(k * omega * t)` times coefficients. Signals are interned as
-//! they are met (`D(e, n)` splits `e` through `Lin::signal_groups`).
+//! and its time dependence `cos/sin(k * omega * t)` times coefficients or DOF terms
+//! (forcing, and parametric excitation). Coefficient functions are read by
+//! `function`. Signals are interned as they are met (`D(e, n)` splits `e` through
+//! `Lin::signal_groups`).
 
 use super::coeff::Atom;
 use super::diag::{err, Sp};
 use super::forcing::harmonic;
+use super::function::function_list;
 use super::linear::{Group, LinearReader};
 use super::scope::{Name, Scope};
-use super::syntax::{ident_of, powi_exponent, show, strip};
-use super::tree::{Alias, Node, OrderKey, SignalKey, Trig};
+use super::syntax::{ident_of, mentions_t, negative_powi_exponent, powi_exponent, show, strip};
+use super::tree::{Alias, Check, Func, Node, OrderKey, SignalKey, Trig};
 use crate::parse::{literal_value, Equation, LetDecl};
 use quote::ToTokens;
 use std::collections::BTreeMap;
@@ -17,37 +20,59 @@ use syn::{BinOp, Expr, Lit, UnOp};
 
 /// What the polynomial allows, repeated in several messages.
 const ALLOWED: &str = "allowed are parameters, DOFs, `let` aliases, numeric literals, `omega`, \
-     `+ - *`, division by coefficients, `.powi(k)` with a literal k >= 0, `D(e, n)`, and \
-     forcing `cos(k * omega * t)` / `sin(k * omega * t)`";
+     `+ - *`, division by coefficients, `.powi(k)` with a literal k >= 0, `D(e, n)`, \
+     forcing `cos(k * omega * t)` / `sin(k * omega * t)`, and functions of coefficients \
+     (`sqrt`, `exp`, `ln`, `sin`, `cos`, `tan`, `abs`, `.powf(q)`)";
 
 /// Where a subexpression holds a DOF-dependent and a forcing term, if it does: what the
 /// checks of products, quotients and powers look at, and where their messages point.
 #[derive(Debug, Clone, Copy, Default)]
-struct Info {
-    dof: Option<Sp>,
-    forcing: Option<Sp>,
+pub(super) struct Info {
+    pub(super) dof: Option<Sp>,
+    pub(super) forcing: Option<Sp>,
 }
 
-/// The lowering of one model: the names declared so far, the signals met so far, and
-/// the lowered aliases.
+/// The signals met, the aliases lowered (none marked used yet), and the coefficient
+/// checks with the alias each came from (`None`: an equation).
+pub struct Lowered {
+    pub signals: Vec<SignalKey>,
+    pub aliases: Vec<Alias>,
+    pub checks: Vec<(Option<usize>, Check)>,
+}
+
+/// The lowering of one model: the names declared so far, the signals met so far, the
+/// lowered aliases, and the coefficient checks (with the alias they came from).
 pub struct Lower<'a> {
     lets: &'a [LetDecl],
     scope: Scope,
     signals: Vec<SignalKey>,
-    aliases: Vec<(Node, Info)>,
+    pub(super) aliases: Vec<(Node, Info)>,
+    pub(super) checks: Vec<(Option<usize>, Check)>,
+    /// The alias being lowered, if any (checks found in it count only if it is used).
+    pub(super) lowering_alias: Option<usize>,
 }
 
 impl<'a> Lower<'a> {
     /// Lowering with `scope` (parameters and DOFs declared); aliases come from `lets`.
     pub fn new(lets: &'a [LetDecl], scope: Scope) -> Self {
-        Lower { lets, scope, signals: Vec::new(), aliases: Vec::new() }
+        Lower {
+            lets,
+            scope,
+            signals: Vec::new(),
+            aliases: Vec::new(),
+            checks: Vec::new(),
+            lowering_alias: None,
+        }
     }
 
     /// Lower alias `i`, then declare its name (so it sees only earlier names).
     pub fn alias(&mut self, i: usize) -> syn::Result<()> {
         let lets = self.lets;
         let l = &lets[i];
-        let converted = self.value(&l.expr)?;
+        self.lowering_alias = Some(i);
+        let converted = self.value(&l.expr);
+        self.lowering_alias = None;
+        let converted = converted?;
         self.aliases.push(converted);
         self.scope.declare(&l.name, Name::Alias(i))
     }
@@ -72,10 +97,10 @@ impl<'a> Lower<'a> {
         })
     }
 
-    /// The signals met and the aliases lowered, none marked used yet.
-    pub fn finish(self) -> (Vec<SignalKey>, Vec<Alias>) {
+    /// What was lowered besides the equations.
+    pub fn finish(self) -> Lowered {
         let aliases = self.aliases.into_iter().map(|(node, _)| Alias { node, used: false });
-        (self.signals, aliases.collect())
+        Lowered { signals: self.signals, aliases: aliases.collect(), checks: self.checks }
     }
 
     /// Reads linear forms with the names declared so far.
@@ -147,6 +172,13 @@ impl<'a> Lower<'a> {
                 ),
             ),
             other => match ident_of(other) {
+                Some(ident) if ident == "omega" => err(
+                    Sp::of(&ident),
+                    format!(
+                        "{order_msg}; `omega` is not: the order of a signal is fixed while \
+                         omega varies along a curve"
+                    ),
+                ),
                 Some(ident) => match self.scope.lookup(ident)? {
                     Name::Param(i) => Ok(OrderKey::Param(i)),
                     name => {
@@ -159,7 +191,7 @@ impl<'a> Lower<'a> {
     }
 
     /// Convert an expression in value context, checking that it is polynomial.
-    fn value(&mut self, e: &Expr) -> syn::Result<(Node, Info)> {
+    pub(super) fn value(&mut self, e: &Expr) -> syn::Result<(Node, Info)> {
         match e {
             Expr::Paren(p) => self.value(&p.expr),
             Expr::Group(g) => self.value(&g.expr),
@@ -207,10 +239,14 @@ impl<'a> Lower<'a> {
         }
     }
 
-    /// `e` is `m`: `.powi(k)`, or forcing written `(k * omega * t).cos()`.
+    /// `e` is `m`: `.powi(k)`, forcing written `(k * omega * t).cos()`, or a function
+    /// of a coefficient (`omega.sqrt()`, `tau.powf(0.5)`, `omega.powi(-1)`).
     fn method(&mut self, e: &Expr, m: &syn::ExprMethodCall) -> syn::Result<(Node, Info)> {
         let name = m.method.to_string();
         if name == "powi" {
+            if let Some(k) = negative_powi_exponent(m) {
+                return self.negative_powi(e, &m.receiver, k);
+            }
             let k = powi_exponent(m)?;
             let (n, i) = self.value(&m.receiver)?;
             if k >= 2 {
@@ -231,20 +267,30 @@ impl<'a> Lower<'a> {
             }
             return Ok((Node::Powi(Box::new(n), k), i));
         }
-        if (name == "cos" || name == "sin") && m.args.is_empty() {
+        if (name == "cos" || name == "sin") && m.args.is_empty() && mentions_t(&m.receiver) {
             let k = harmonic(&m.receiver, Sp::of(&e), &show(e))?;
             return self.forcing(&name, k, Sp::of(&e));
         }
-        err(
-            Sp::of(&m.method),
-            format!(
-                "`.{name}(...)` is not allowed: only `.powi(k)` with an integer literal \
-                 k >= 0 keeps the model polynomial"
+        if name == "powf" {
+            let args: Vec<&Expr> = m.args.iter().collect();
+            return self.powf(e, &m.receiver, &args);
+        }
+        match Func::named(&name) {
+            Some(f) if m.args.is_empty() => self.function(e, f, &m.receiver),
+            _ => err(
+                Sp::of(&m.method),
+                format!(
+                    "`.{name}(...)` is not allowed: DOF terms take only `.powi(k)` with an \
+                     integer literal k >= 0 (which keeps the model polynomial); \
+                     coefficients also take {}",
+                    function_list()
+                ),
             ),
-        )
+        }
     }
 
-    /// `e` is `c`: `D(e, n)` or forcing `cos/sin(k * omega * t)`.
+    /// `e` is `c`: `D(e, n)`, forcing `cos/sin(k * omega * t)`, or a function of a
+    /// coefficient (`cos(omega * tau)`, `sqrt(k / m)`).
     fn call(&mut self, e: &Expr, c: &syn::ExprCall) -> syn::Result<(Node, Info)> {
         let Some(f) = ident_of(&c.func) else {
             return err(Sp::of(&c.func), format!("unsupported function: {ALLOWED}"));
@@ -252,20 +298,28 @@ impl<'a> Lower<'a> {
         let fname = f.to_string();
         match fname.as_str() {
             "D" => self.derivative(c),
-            "cos" | "sin" => {
-                if c.args.len() != 1 {
-                    return err(Sp::of(&c), format!("`{fname}` takes one argument"));
+            _ => match Func::named(&fname) {
+                Some(_) if c.args.len() != 1 => {
+                    err(Sp::of(&c), format!("`{fname}` takes one argument"))
                 }
-                let k = harmonic(&c.args[0], Sp::of(&c), &show(e))?;
-                self.forcing(&fname, k, Sp::of(&c))
-            }
-            _ => err(
-                Sp::of(&f),
-                format!(
-                    "unknown function `{fname}`: the only functions are `D(e, n)`, \
-                     `cos(k * omega * t)` and `sin(k * omega * t)`"
+                Some(func) => {
+                    let arg = &c.args[0];
+                    if matches!(func, Func::Cos | Func::Sin) && mentions_t(arg) {
+                        let k = harmonic(arg, Sp::of(&c), &show(e))?;
+                        self.forcing(&fname, k, Sp::of(&c))
+                    } else {
+                        self.function(e, func, arg)
+                    }
+                }
+                None => err(
+                    Sp::of(&f),
+                    format!(
+                        "unknown function `{fname}`: the functions are `D(e, n)`, forcing \
+                         `cos(k * omega * t)` / `sin(k * omega * t)`, and {} of coefficients",
+                        function_list()
+                    ),
                 ),
-            ),
+            },
         }
     }
 
@@ -282,20 +336,9 @@ impl<'a> Lower<'a> {
         match b.op {
             BinOp::Add(_) => Ok((Node::Add(l, r), sum)),
             BinOp::Sub(_) => Ok((Node::Sub(l, r), sum)),
+            // Forcing times a DOF term is parametric excitation (a stiffness or damping
+            // that varies over the period): still polynomial in the signals.
             BinOp::Mul(_) => {
-                for (f, d) in [(li.forcing, ri.dof), (ri.forcing, li.dof)] {
-                    if let (Some(f), Some(_)) = (f, d) {
-                        return err(
-                            f,
-                            format!(
-                                "forcing multiplied by a DOF-dependent term in `{}`: forcing \
-                                 `cos(k * omega * t)` / `sin(k * omega * t)` may only be \
-                                 multiplied by coefficients (parameters, literals, omega)",
-                                show(&Expr::Binary(b.clone()))
-                            ),
-                        );
-                    }
-                }
                 if let (Some(f), Some(_)) = (li.forcing, ri.forcing) {
                     return err(
                         f,
@@ -322,7 +365,12 @@ impl<'a> Lower<'a> {
                 if matches!(*r, Node::Lit(v) if v == 0.0) {
                     return err(Sp::of(&b.right), "division by zero");
                 }
-                Ok((Node::Div(l, r), sum))
+                let divisor = (*r).clone();
+                let node = Node::Div(l, r);
+                let left_coefficient = li.dof.is_none() && li.forcing.is_none();
+                let whole = Expr::Binary(b.clone());
+                self.check_division(&whole, &b.right, &node, &divisor, left_coefficient);
+                Ok((node, sum))
             }
             BinOp::BitXor(_) => err(
                 Sp::of(&b.op),

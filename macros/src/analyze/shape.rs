@@ -1,7 +1,9 @@
 //! Shape analysis of the lowered model: its polynomial degree in the signals, its
-//! highest forcing harmonic, the signals every equation is affine in (constant
+//! highest forcing harmonic and the highest harmonic of a parametric (time-varying)
+//! coefficient of a signal term, the signals every equation is affine in (constant
 //! gradient over a period, so the solvers may skip their sampling), and whether Ω
-//! appears other than inside the forcing. All are read off the trees, conservatively.
+//! appears other than inside the forcing (a coefficient that depends on Ω does). All
+//! are read off the trees, conservatively.
 
 use super::tree::{Analysis, Node};
 use std::collections::BTreeSet;
@@ -17,6 +19,8 @@ struct Shape {
     omega: bool,
     degree: u32,
     max_k: u32,
+    /// The highest harmonic of a time-varying factor multiplying signals.
+    param_k: u32,
 }
 
 impl Shape {
@@ -28,6 +32,7 @@ impl Shape {
         self.omega |= o.omega;
         self.degree = self.degree.max(o.degree);
         self.max_k = self.max_k.max(o.max_k);
+        self.param_k = self.param_k.max(o.param_k);
         self
     }
 }
@@ -42,14 +47,21 @@ fn shape(n: &Node, aliases: &[Shape]) -> Shape {
         Node::Forcing(_, k) => Shape { timed: true, max_k: *k, ..Shape::default() },
         Node::Signal(s) => Shape { present: BTreeSet::from([*s]), degree: 1, ..Shape::default() },
         Node::Alias(i) => aliases[*i].clone(),
-        Node::Neg(a) => shape(a, aliases),
-        Node::Add(a, b) | Node::Sub(a, b) => shape(a, aliases).union(&shape(b, aliases)),
+        // A function of a coefficient is a coefficient: degree 0, Ω if its argument has it.
+        Node::Neg(a) | Node::Func(_, a) => shape(a, aliases),
+        Node::Add(a, b) | Node::Sub(a, b) | Node::Powf(a, b) => {
+            shape(a, aliases).union(&shape(b, aliases))
+        }
         Node::Mul(a, b) | Node::Div(a, b) => {
             let (sa, sb) = (shape(a, aliases), shape(b, aliases));
             let mut out = sa.clone().union(&sb);
             for (x, y) in [(&sa, &sb), (&sb, &sa)] {
                 if !y.present.is_empty() || y.timed {
                     out.nonaffine.extend(&x.present);
+                }
+                // Parametric excitation: `cos(kΩt) · signals` adds k to the harmonics.
+                if y.timed && !x.present.is_empty() && matches!(n, Node::Mul(..)) {
+                    out.param_k = out.param_k.max(y.max_k);
                 }
             }
             if matches!(n, Node::Mul(..)) {
@@ -76,8 +88,12 @@ fn shape(n: &Node, aliases: &[Shape]) -> Shape {
 pub struct ModelShape {
     /// Polynomial degree in the signals (at least 1).
     pub degree: u32,
-    /// Highest forcing harmonic `k` of `cos/sin(k * omega * t)`; 0 if unforced.
+    /// Highest harmonic `k` of `cos/sin(k * omega * t)` (forcing or parametric); 0 if
+    /// the equations do not depend on time.
     pub max_harmonic: u32,
+    /// Highest harmonic of a time-varying factor that multiplies signals (parametric
+    /// excitation, `(1 + eps * cos(2 * omega * t)) * x`); 0 if there is none.
+    pub parametric_harmonic: u32,
     /// Per signal: every equation is affine in it with a signal- and time-free
     /// coefficient (its gradient is constant over a period).
     pub affine: Vec<bool>,
@@ -98,6 +114,7 @@ impl Analysis {
         ModelShape {
             degree: s.degree.max(1),
             max_harmonic: s.max_k,
+            parametric_harmonic: s.param_k,
             affine: (0..self.signals.len()).map(|i| !s.nonaffine.contains(&i)).collect(),
             explicit_omega: s.omega,
         }
@@ -134,6 +151,31 @@ mod tests {
         assert_eq!(shape_of("x = 0.0; y = 0.0;").max_harmonic, 0);
         let s = shape_of("x = a * cos(omega * t) + sin(3 * omega * t); y = cos(2 * omega * t);");
         assert_eq!(s.max_harmonic, 3);
+    }
+
+    #[test]
+    fn parametric_harmonic_is_the_highest_k_multiplying_signals() {
+        // Forcing alone is not parametric.
+        assert_eq!(shape_of("x = cos(3 * omega * t); y = 0.0;").parametric_harmonic, 0);
+        let s = shape_of(
+            "(1.0 + a * cos(2 * omega * t)) * x + x.powi(3) = cos(3 * omega * t); y = 0.0;",
+        );
+        assert_eq!((s.parametric_harmonic, s.max_harmonic, s.degree), (2, 3, 3));
+        // The factor may come after the signal, and through an alias (v = x y).
+        let s = shape_of("v * sin(omega * t) = 0.0; y = 0.0;");
+        assert_eq!((s.parametric_harmonic, s.degree), (1, 2));
+        // A parametric term is not affine: its gradient varies over the period.
+        assert_eq!(shape_of("cos(omega * t) * x = 0.0; y = 0.0;").affine, [false, true]);
+    }
+
+    #[test]
+    fn coefficient_functions_of_omega_make_omega_explicit() {
+        let s = shape_of("a * cos(omega * a) * x + y = 0.0; y = 0.0;");
+        assert!(s.explicit_omega);
+        // affine: the coefficient depends on parameters and Ω only
+        assert_eq!((s.affine.clone(), s.degree), (vec![true, true], 1));
+        let s = shape_of("a.sqrt() * x + a.powf(0.5) * y = 0.0; y = 0.0;");
+        assert!(!s.explicit_omega);
     }
 
     #[test]

@@ -47,6 +47,33 @@ pub fn ident_of(e: &Expr) -> Option<&syn::Ident> {
     }
 }
 
+/// Whether `e` names the time `t` anywhere: then `cos(e)` / `sin(e)` is read as forcing
+/// (and must be `k * omega * t`), otherwise as a function of a coefficient.
+pub fn mentions_t(e: &Expr) -> bool {
+    fn scan(ts: proc_macro2::TokenStream) -> bool {
+        ts.into_iter().any(|tt| match tt {
+            proc_macro2::TokenTree::Ident(i) => i == "t",
+            proc_macro2::TokenTree::Group(g) => scan(g.stream()),
+            _ => false,
+        })
+    }
+    scan(e.to_token_stream())
+}
+
+/// `k` of `.powi(-k)`, if the exponent is a negative integer literal (allowed on
+/// coefficients, where it is a division).
+pub fn negative_powi_exponent(m: &syn::ExprMethodCall) -> Option<u32> {
+    match m.args.iter().map(strip).collect::<Vec<_>>().as_slice() {
+        [Expr::Unary(u)] if matches!(u.op, syn::UnOp::Neg(_)) => match strip(&u.expr) {
+            Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => {
+                i.base10_parse::<u32>().ok().filter(|&k| k > 0)
+            }
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
 /// `k` of `.powi(k)`: an integer literal `k >= 0`.
 pub fn powi_exponent(m: &syn::ExprMethodCall) -> syn::Result<u32> {
     let msg = "`.powi(k)` needs an integer literal k >= 0 (negative or non-literal powers \
@@ -82,6 +109,26 @@ mod tests {
         assert_eq!(ident_of(&expr("((x))")).map(|i| i.to_string()), Some("x".into()));
         assert!(ident_of(&expr("a::b")).is_none());
         assert!(ident_of(&expr("x + y")).is_none());
+    }
+
+    #[test]
+    fn time_is_found_at_any_depth() {
+        assert!(mentions_t(&expr("2 * (omega * t)")));
+        assert!(mentions_t(&expr("omega * t - omega * tau")));
+        assert!(!mentions_t(&expr("omega * tau")));
+    }
+
+    #[test]
+    fn negative_powers_are_read_for_coefficients() {
+        let m = |src: &str| match expr(src) {
+            Expr::MethodCall(m) => m,
+            _ => unreachable!(),
+        };
+        assert_eq!(negative_powi_exponent(&m("omega.powi(-2)")), Some(2));
+        assert_eq!(negative_powi_exponent(&m("omega.powi((-1))")), Some(1));
+        for other in ["omega.powi(2)", "omega.powi(-0)", "omega.powi(-k)", "omega.powi(-1.0)"] {
+            assert_eq!(negative_powi_exponent(&m(other)), None, "{other}");
+        }
     }
 
     #[test]

@@ -26,6 +26,55 @@ pub enum Trig {
     Sin,
 }
 
+/// The smooth functions a coefficient may apply (never to a DOF or to forcing: the
+/// residual stays polynomial in the signals, its coefficients need not be).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Func {
+    Sqrt,
+    Exp,
+    Ln,
+    Sin,
+    Cos,
+    Tan,
+    Abs,
+}
+
+impl Func {
+    /// Every function, in the order messages list them.
+    pub const ALL: [Func; 7] =
+        [Func::Sqrt, Func::Exp, Func::Ln, Func::Sin, Func::Cos, Func::Tan, Func::Abs];
+
+    /// Its name in the DSL (as a function `sqrt(e)` or a method `e.sqrt()`), which is
+    /// also the method of `f64` and `DualNum` that computes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Func::Sqrt => "sqrt",
+            Func::Exp => "exp",
+            Func::Ln => "ln",
+            Func::Sin => "sin",
+            Func::Cos => "cos",
+            Func::Tan => "tan",
+            Func::Abs => "abs",
+        }
+    }
+
+    /// The function called `name`, if there is one.
+    pub fn named(name: &str) -> Option<Func> {
+        Func::ALL.into_iter().find(|f| f.name() == name)
+    }
+}
+
+/// A coefficient subexpression that may not be finite at run time (a function, a
+/// quotient, a real power): the generated `check_coefficients` evaluates it and names
+/// it by its source text when it is not.
+#[derive(Debug, Clone)]
+pub struct Check {
+    /// The source text, for the error message.
+    pub text: String,
+    /// Its tree, aliases expanded (it holds parameters, literals and Ω only).
+    pub node: Node,
+}
+
 /// The resolved expression tree the residual is generated from.
 #[derive(Debug, Clone)]
 pub enum Node {
@@ -43,17 +92,25 @@ pub enum Node {
     Div(Box<Node>, Box<Node>),
     Neg(Box<Node>),
     Powi(Box<Node>, u32),
+    /// A smooth function of a coefficient.
+    Func(Func, Box<Node>),
+    /// `base.powf(exponent)`, both coefficients.
+    Powf(Box<Node>, Box<Node>),
 }
 
 impl Node {
     /// Calls `f` on each direct subtree, left to right (an alias is a leaf here).
     pub fn for_each_child<'a>(&'a self, mut f: impl FnMut(&'a Node)) {
         match self {
-            Node::Add(x, y) | Node::Sub(x, y) | Node::Mul(x, y) | Node::Div(x, y) => {
+            Node::Add(x, y)
+            | Node::Sub(x, y)
+            | Node::Mul(x, y)
+            | Node::Div(x, y)
+            | Node::Powf(x, y) => {
                 f(x);
                 f(y);
             }
-            Node::Neg(x) | Node::Powi(x, _) => f(x),
+            Node::Neg(x) | Node::Powi(x, _) | Node::Func(_, x) => f(x),
             Node::Lit(_)
             | Node::Param(_)
             | Node::Omega
@@ -66,11 +123,15 @@ impl Node {
     /// [`Node::for_each_child`], mutably.
     pub fn for_each_child_mut(&mut self, mut f: impl FnMut(&mut Node)) {
         match self {
-            Node::Add(x, y) | Node::Sub(x, y) | Node::Mul(x, y) | Node::Div(x, y) => {
+            Node::Add(x, y)
+            | Node::Sub(x, y)
+            | Node::Mul(x, y)
+            | Node::Div(x, y)
+            | Node::Powf(x, y) => {
                 f(x);
                 f(y);
             }
-            Node::Neg(x) | Node::Powi(x, _) => f(x),
+            Node::Neg(x) | Node::Powi(x, _) | Node::Func(_, x) => f(x),
             _ => {}
         }
     }
@@ -92,4 +153,7 @@ pub struct Analysis {
     pub equations: Vec<Node>,
     /// `(name, terms)` per output.
     pub outputs: Vec<(String, Terms)>,
+    /// The coefficient subexpressions to check at run time, innermost first, from the
+    /// equations and the used aliases.
+    pub checks: Vec<Check>,
 }

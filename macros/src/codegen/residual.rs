@@ -9,7 +9,7 @@ use quote::{format_ident, quote, ToTokens};
 
 /// Whether a generated expression is a plain `f64` or the dual type.
 #[derive(Clone, Copy, PartialEq)]
-enum Kind {
+pub(super) enum Kind {
     Const,
     Dual,
 }
@@ -82,12 +82,18 @@ fn uses(a: &Analysis) -> Uses {
     uses
 }
 
-/// `let` statements for the parameters, signals and forcing terms used.
-fn locals(uses: &Uses) -> TokenStream {
-    let param_lets = uses.params.iter().map(|i| {
+/// `let __p{i} = __params[i];` for each parameter in `params`.
+pub(super) fn param_lets(params: &[usize]) -> TokenStream {
+    let lets = params.iter().map(|i| {
         let id = format_ident!("__p{}", i);
         quote!(let #id = __params[#i];)
     });
+    quote!(#(#lets)*)
+}
+
+/// `let` statements for the parameters, signals and forcing terms used.
+fn locals(uses: &Uses) -> TokenStream {
+    let param_lets = param_lets(&uses.params);
     let signal_lets = uses.signals.iter().map(|i| {
         let id = format_ident!("__s{}", i);
         quote!(let #id = __signals[#i];)
@@ -110,7 +116,7 @@ fn locals(uses: &Uses) -> TokenStream {
             }
         }
     });
-    quote!(#(#param_lets)* #(#signal_lets)* #(#forcing_lets)*)
+    quote!(#param_lets #(#signal_lets)* #(#forcing_lets)*)
 }
 
 /// The kind of every alias, and a `let` for each used one.
@@ -130,7 +136,7 @@ fn aliases(a: &Analysis) -> (Vec<Kind>, Vec<TokenStream>) {
 
 /// Code for `n` and its kind. Forcing and literals stay `f64`: `DualNum` implements
 /// `dual op f64` but not `f64 op dual`, so a constant left operand is moved right.
-fn expr(n: &Node, alias_kinds: &[Kind]) -> (TokenStream, Kind) {
+pub(super) fn expr(n: &Node, alias_kinds: &[Kind]) -> (TokenStream, Kind) {
     type Op = fn(&TokenStream, &TokenStream) -> TokenStream;
     // `a op b` from its operands; `swapped` writes the same for a constant `a` and dual `b`.
     let bin = |x: &Node, y: &Node, plain: Op, swapped: Op| {
@@ -162,6 +168,25 @@ fn expr(n: &Node, alias_kinds: &[Kind]) -> (TokenStream, Kind) {
         Node::Sub(x, y) => bin(x, y, |a, b| quote!((#a - #b)), |a, b| quote!((-#b + #a))),
         Node::Mul(x, y) => bin(x, y, |a, b| quote!((#a * #b)), |a, b| quote!((#b * #a))),
         Node::Div(x, y) => bin(x, y, |a, b| quote!((#a / #b)), |a, b| quote!((#b.recip() * #a))),
+        // `f64` and `DualNum` name these methods alike.
+        Node::Func(f, x) => {
+            let (t, kind) = expr(x, alias_kinds);
+            let method = format_ident!("{}", f.name());
+            (quote!(#t.#method()), kind)
+        }
+        Node::Powf(x, q) => {
+            let ((b, kb), (e, ke)) = (expr(x, alias_kinds), expr(q, alias_kinds));
+            match (kb, ke) {
+                (_, Kind::Const) => (quote!(#b.powf(#e)), kb),
+                // A dual exponent (a parameter): `powd`, on a dual base.
+                (Kind::Const, Kind::Dual) => {
+                    (quote!(::ihbm::num_dual::DualNum::powd(&__IhbmD::from(#b), #e)), Kind::Dual)
+                }
+                (Kind::Dual, Kind::Dual) => {
+                    (quote!(::ihbm::num_dual::DualNum::powd(&#b, #e)), Kind::Dual)
+                }
+            }
+        }
         Node::Powi(x, k) => {
             let (t, kind) = expr(x, alias_kinds);
             let code = match k {

@@ -1,0 +1,14 @@
+// Inside D(...) coefficients are monomials: a function stands outside.
+ihbm_macros::oscillator! {
+    pub struct Bad {
+        params { m = 1.0, k = 1.0, p = 0.5, F = 1.0, tau = 0.1 }
+        dofs { z1, z2 }
+        let y = z1 - z2;
+        equations {
+            m * D(z1, 2) + k * y + D(cos(omega * tau) * y, 1) = 0.0;
+            m * D(z2, 2) + k * z2 = F * cos(omega * t);
+        }
+    }
+}
+
+fn main() {}
