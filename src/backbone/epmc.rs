@@ -18,7 +18,7 @@
 //! square.
 
 use crate::balance::Balance;
-use crate::continuation::tracer::{dot, no_convergence, stalling};
+use crate::continuation::tracer::{dot, newton_update, no_convergence, stalling, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
@@ -208,23 +208,7 @@ impl<'m, M: Model> Epmc<'m, M> {
         self.rhs[n + 2] = dot(border, y) - target;
         self.a = a;
         self.md = md;
-        if !self.rhs.iter().all(|v| v.is_finite()) {
-            return Err(format!("non-finite residual at ω = {omega:.6}"));
-        }
-        let pivots = self.lu.factor();
-        if pivots.is_nan() || pivots <= 1e-15 {
-            return Err(format!("singular Jacobian at ω = {omega:.6}"));
-        }
-        self.lu.solve(&mut self.rhs);
-        let mut dn = 0.0f64;
-        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
-            *yi -= d;
-            dn = dn.max(d.abs());
-        }
-        if !(dn.is_finite() && y.iter().all(|v| v.is_finite())) {
-            return Err(format!("non-finite Newton step near ω = {omega:.6}"));
-        }
-        Ok(dn)
+        newton_update(&mut self.lu, &mut self.rhs, y, omega)
     }
 
     /// Newton from `y` on `border · y = target`; iterations used.
@@ -252,11 +236,6 @@ impl<'m, M: Model> Epmc<'m, M> {
     /// The unit tangent from the LU of the last Newton step.
     pub fn tangent(&mut self) -> Vec<f64> {
         let d = self.dim();
-        let mut t = vec![0.0; d];
-        t[d - 1] = 1.0;
-        self.lu.solve(&mut t);
-        let norm = dot(&t, &t).sqrt();
-        t.iter_mut().for_each(|v| *v /= norm);
-        t
+        unit_tangent(&mut self.lu, d)
     }
 }

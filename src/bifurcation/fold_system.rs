@@ -24,7 +24,7 @@
 use super::period_two::{embedding, odd_harmonics};
 use super::torus::TorusTest;
 use crate::balance::{Balance, BilinearWork};
-use crate::continuation::tracer::{dot, no_convergence, stalling};
+use crate::continuation::tracer::{dot, newton_update, no_convergence, stalling, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
@@ -458,23 +458,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         }
         self.rhs[d - 1] = dot(border, y) - target;
         self.last_residual = self.rhs[..d - 1].iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        if !self.rhs.iter().all(|v| v.is_finite()) {
-            return Err(format!("non-finite residual at Ω = {omega:.6}"));
-        }
-        let pivots = self.lu_k.factor();
-        if pivots.is_nan() || pivots <= 1e-15 {
-            return Err(format!("singular extended Jacobian at Ω = {omega:.6}"));
-        }
-        self.lu_k.solve(&mut self.rhs);
-        let mut dn = 0.0f64;
-        for (yi, &d) in y.iter_mut().zip(&self.rhs) {
-            *yi -= d;
-            dn = dn.max(d.abs());
-        }
-        if !(dn.is_finite() && y.iter().all(|v| v.is_finite())) {
-            return Err(format!("non-finite Newton step near Ω = {omega:.6}"));
-        }
-        Ok(dn)
+        newton_update(&mut self.lu_k, &mut self.rhs, y, omega)
     }
 
     /// Row `n` of the Newton matrix and its right-hand side for a real test function
@@ -569,12 +553,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
     /// The unit tangent from the LU of the last Newton step (oriented along its border).
     pub fn tangent(&mut self) -> Vec<f64> {
         let d = self.dim();
-        let mut t = vec![0.0; d];
-        t[d - 1] = 1.0;
-        self.lu_k.solve(&mut t);
-        let norm = dot(&t, &t).sqrt();
-        t.iter_mut().for_each(|v| *v /= norm);
-        t
+        unit_tangent(&mut self.lu_k, d)
     }
 
     /// Renew the borders from the null vectors of the last test function.

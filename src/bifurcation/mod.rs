@@ -428,41 +428,28 @@ pub fn fold_curves_with<M: Model + Clone>(
         let mut m = model.clone();
         m.set_param_value(param, v);
         let bal = Balance::new(model, sweep_opts.harmonics)?;
-        let mut sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
+        let sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
         let ci = res.curves.len();
-        match opts.boundary {
-            Boundary::Fold => {}
+        let sys = match opts.boundary {
+            Boundary::Fold => Ok(sys),
             Boundary::PeriodDoubling => {
-                sys = sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?);
+                Ok(sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?))
             }
-            Boundary::Torus => match torus_frequency(&m, sweep_opts.harmonics, &fold) {
-                Ok(w) => sys = sys.torus(w)?,
-                Err(why) => {
-                    res.curves.push(FoldCurve {
-                        start: end,
-                        start_fold,
-                        points: Vec::new(),
-                        ended: CurveEnd::Stalled(why),
-                    });
-                    stopped = observer(&FoldEvent::CurveEnd(ci), &res) == Control::Stop;
-                    continue;
-                }
-            },
-        }
-        sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
-        sys.so = w1 - w0;
-        sys.sp = (scale.forward(hi) - scale.forward(lo)).abs();
-        sys.sr = reference_force(&m, sweep_opts.harmonics, fold.omega)?;
-        sys.omega_range = (w0, w1);
-        sys.param_range = (lo, hi);
+            Boundary::Torus => torus_frequency(&m, sweep_opts.harmonics, &fold)
+                .and_then(|w| sys.torus(w).map_err(|e| e.to_string())),
+        };
         let up = (end == RangeEnd::From) == (to > from);
-        let mut tracer = match FoldCurveTracer::new(
-            sys,
-            model,
-            &sweep_opts,
-            (&fold.coeffs, fold.omega, v),
-            up,
-        ) {
+        let sr = reference_force(&m, sweep_opts.harmonics, fold.omega)?;
+        let tracer = sys.and_then(|mut sys| {
+            sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
+            sys.so = w1 - w0;
+            sys.sp = (scale.forward(hi) - scale.forward(lo)).abs();
+            sys.sr = sr;
+            sys.omega_range = (w0, w1);
+            sys.param_range = (lo, hi);
+            FoldCurveTracer::new(sys, model, &sweep_opts, (&fold.coeffs, fold.omega, v), up)
+        });
+        let mut tracer = match tracer {
             Ok(t) => t,
             Err(why) => {
                 res.curves.push(FoldCurve {

@@ -326,3 +326,42 @@ pub const LOCATE_ITER: usize = 30;
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
+
+/// The Newton update of an extended system whose matrix is in `lu` and residual in
+/// `rhs` (overwritten by the step): factor, solve, `y -= step`; the step's max-norm,
+/// or why not (a singular matrix, a non-finite step) at Ω = `omega`.
+pub(crate) fn newton_update(
+    lu: &mut DenseLu,
+    rhs: &mut [f64],
+    y: &mut [f64],
+    omega: f64,
+) -> Result<f64, String> {
+    if !rhs.iter().all(|v| v.is_finite()) {
+        return Err(format!("non-finite residual at Ω = {omega:.6}"));
+    }
+    let pivots = lu.factor();
+    if pivots.is_nan() || pivots <= 1e-15 {
+        return Err(format!("singular extended Jacobian at Ω = {omega:.6}"));
+    }
+    lu.solve(rhs);
+    let mut dn = 0.0f64;
+    for (yi, &d) in y.iter_mut().zip(rhs.iter()) {
+        *yi -= d;
+        dn = dn.max(d.abs());
+    }
+    if !(dn.is_finite() && y.iter().all(|v| v.is_finite())) {
+        return Err(format!("non-finite Newton step near Ω = {omega:.6}"));
+    }
+    Ok(dn)
+}
+
+/// The unit tangent of a curve from the LU (in `lu`) of its last Newton matrix,
+/// whose last row is the arc-length condition.
+pub(crate) fn unit_tangent(lu: &mut DenseLu, dim: usize) -> Vec<f64> {
+    let mut t = vec![0.0; dim];
+    t[dim - 1] = 1.0;
+    lu.solve(&mut t);
+    let norm = dot(&t, &t).sqrt();
+    t.iter_mut().for_each(|v| *v /= norm);
+    t
+}
