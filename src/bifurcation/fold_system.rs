@@ -347,6 +347,8 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             return Err(format!("an iterate left the parameter range (at {p:.6e})"));
         }
         self.bal.set_param(self.param, p);
+        // a coefficient undefined here is named, not met as a non-finite residual
+        self.bal.check_coefficients(omega).map_err(|e| e.to_string())?;
         Ok((omega, p))
     }
 

@@ -286,3 +286,35 @@ fn a_parameter_only_coefficient_is_named_too() {
     );
     assert!(solve(&ParamOnly { k: 3.0, ..m }, 1.0, &SolveOptions::default(), None).is_ok());
 }
+
+ihbm::oscillator! {
+    /// A Duffing oscillator whose forcing amplitude is undefined for F in (0.09, 0.11)
+    /// (and above the cusp's 0.0516 on either side, so fold curves run into the gap).
+    pub struct ForcingGap {
+        params { m = 1.0, c = 0.1, k = 1.0, k3 = 1.0, F = 0.3 }
+        dofs { x }
+        equations {
+            m * D(x, 2) + c * D(x, 1) + k * x + k3 * x.powi(3)
+                = (F + 0.1 * ((F - 0.1).powi(2) - 1e-4).sqrt()) * cos(omega * t);
+        }
+    }
+}
+
+/// A fold curve that runs into parameter values where a coefficient is undefined ends
+/// there, stalled, with the term named (not "non-finite residual"), and keeps what it
+/// traced.
+#[test]
+fn a_fold_curve_stops_at_an_undefined_coefficient_naming_it() {
+    use ihbm::bifurcation::{fold_curves, CurveEnd, FoldCurveOptions};
+    let model = ForcingGap::default();
+    let mut opts = FoldCurveOptions::default();
+    opts.sweep.harmonics = 1;
+    opts.omega = (0.5, 3.0);
+    let f = model.param_index("F").unwrap();
+    let res = fold_curves(&model, f, 0.3, 0.01, &opts).unwrap();
+    let c = res.curves.iter().find(|c| c.start == ihbm::bifurcation::RangeEnd::From).unwrap();
+    assert!(c.points.len() > 3, "{:?}", c.ended);
+    let CurveEnd::Stalled(why) = &c.ended else { panic!("{:?}", c.ended) };
+    assert!(why.contains("sqrt") && why.contains("NaN"), "{why}");
+    assert!(c.points.iter().all(|p| p.value >= 0.11 - 1e-9), "no point inside the gap");
+}
