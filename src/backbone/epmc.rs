@@ -18,7 +18,7 @@
 //! square.
 
 use crate::balance::Balance;
-use crate::continuation::tracer::{dot, newton_update, no_convergence, stalling, unit_tangent};
+use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
@@ -219,18 +219,11 @@ impl<'m, M: Model> Epmc<'m, M> {
         target: f64,
         budget: usize,
     ) -> Result<usize, String> {
-        let mut prev = f64::INFINITY;
-        for it in 1..=budget {
+        let tol = self.tol;
+        iterate(budget, tol, |_, _| {
             let dn = self.newton_step(y, border, target)?;
-            if dn <= self.tol {
-                return Ok(it);
-            }
-            if let Some(why) = stalling(it, dn, prev, self.omega(y)) {
-                return Err(why);
-            }
-            prev = dn;
-        }
-        Err(no_convergence(budget, self.omega(y)))
+            Ok((dn, self.omega(y), false))
+        })
     }
 
     /// The unit tangent from the LU of the last Newton step.

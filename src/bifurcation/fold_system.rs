@@ -24,7 +24,7 @@
 use super::period_two::{embedding, odd_harmonics};
 use super::torus::TorusTest;
 use crate::balance::{Balance, BilinearWork};
-use crate::continuation::tracer::{dot, newton_update, no_convergence, stalling, unit_tangent};
+use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
@@ -529,27 +529,17 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         target: f64,
         budget: usize,
     ) -> Result<usize, String> {
-        let mut prev = f64::INFINITY;
-        for it in 1..=budget {
+        let tol = self.tol;
+        iterate(budget, tol, |it, prev| {
             let dn = self.newton_step(y, border, target)?;
-            if dn <= self.tol {
-                return Ok(it);
-            }
             // Where the extended system is ill conditioned (near a point where two
             // fold curves meet), rounding alone moves the iterate by more than `tol`
             // (measured: updates of 1e-10 to 5e-10 going round at residuals of 1e-12
             // on the quarter car). An update that stopped shrinking at such a level,
             // with both residuals at rounding level, is converged.
             let floor = self.last_residual <= ROUNDING_RESIDUAL && dn <= ROUNDING_STEP;
-            if it >= 2 && dn > 0.5 * prev && floor {
-                return Ok(it);
-            }
-            if let Some(why) = stalling(it, dn, prev, self.omega(y)) {
-                return Err(why);
-            }
-            prev = dn;
-        }
-        Err(no_convergence(budget, self.omega(y)))
+            Ok((dn, self.omega(y), it >= 2 && dn > 0.5 * prev && floor))
+        })
     }
 
     /// The unit tangent from the LU of the last Newton step (oriented along its border).

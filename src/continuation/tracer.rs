@@ -355,6 +355,30 @@ pub(crate) fn newton_update(
     Ok(dn)
 }
 
+/// Newton's iteration of an extended system: `step(it, prev)` takes one step and
+/// returns its max-norm, Ω there and whether the iterate has settled by a criterion of
+/// its own; converged when the step is at most `tol` or settled, refused when it
+/// stalls ([`stalling`]) or the budget runs out. The iterations used.
+pub(crate) fn iterate(
+    budget: usize,
+    tol: f64,
+    mut step: impl FnMut(usize, f64) -> Result<(f64, f64, bool), String>,
+) -> Result<usize, String> {
+    let (mut prev, mut omega) = (f64::INFINITY, f64::NAN);
+    for it in 1..=budget {
+        let (dn, w, settled) = step(it, prev)?;
+        omega = w;
+        if dn <= tol || settled {
+            return Ok(it);
+        }
+        if let Some(why) = stalling(it, dn, prev, omega) {
+            return Err(why);
+        }
+        prev = dn;
+    }
+    Err(no_convergence(budget, omega))
+}
+
 /// The unit tangent of a curve from the LU (in `lu`) of its last Newton matrix,
 /// whose last row is the arc-length condition.
 pub(crate) fn unit_tangent(lu: &mut DenseLu, dim: usize) -> Vec<f64> {
