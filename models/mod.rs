@@ -45,6 +45,7 @@
 pub mod base_excited;
 pub mod chain;
 pub mod duffing;
+pub mod half_car;
 pub mod quadratic;
 pub mod quarter_car;
 pub mod van_der_pol;
@@ -52,6 +53,7 @@ pub mod van_der_pol;
 pub use base_excited::BaseExcited;
 pub use chain::TwoMassChain;
 pub use duffing::{Duffing, FractionalDuffing};
+pub use half_car::HalfCar;
 pub use quadratic::Quadratic;
 pub use quarter_car::QuarterCar;
 pub use van_der_pol::VanDerPol;

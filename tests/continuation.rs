@@ -12,6 +12,8 @@ mod convergence;
 mod duffing;
 #[path = "continuation/fold_curves.rs"]
 mod fold_curves;
+#[path = "continuation/half_car.rs"]
+mod half_car;
 #[path = "continuation/period_two.rs"]
 mod period_two;
 #[path = "continuation/quarter_car.rs"]

@@ -75,7 +75,8 @@ impl Cli {
     /// The `ihbm` binary's command line: every built-in model registered.
     pub fn builtin() -> Self {
         use crate::models::{
-            BaseExcited, Duffing, FractionalDuffing, Quadratic, QuarterCar, TwoMassChain, VanDerPol,
+            BaseExcited, Duffing, FractionalDuffing, HalfCar, Quadratic, QuarterCar, TwoMassChain,
+            VanDerPol,
         };
         Cli::new()
             .own_name::<QuarterCar>()
@@ -85,6 +86,7 @@ impl Cli {
             .own_name::<BaseExcited>()
             .own_name::<Quadratic>()
             .own_name::<VanDerPol>()
+            .own_name::<HalfCar>()
     }
 
     /// Register `M::default()` under its own [`Model::name`].
