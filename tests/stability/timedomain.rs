@@ -4,14 +4,15 @@
 //!    perturbation and integrate (RK4, written here): from a point Hill flags
 //!    unstable the perturbation grows and the motion leaves the branch; from a stable
 //!    point it decays.
-//! 2. Quarter car with a fractional element in its multi-valued region: integrated from
+//! 2. Quarter car and half car (delayed rear road) with fractional elements, in their
+//!    multi-valued regions: integrated from
 //!    rest with `ihbm::timedomain::simulate`, the steady response settles on one of the
 //!    stable branches, never on the one Hill flags unstable. (The time-domain solver
 //!    starts from rest only, so a perturbed start is shown on the integer-order model.)
 
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
-use ihbm::models::{Duffing, QuarterCar};
+use ihbm::models::{Duffing, HalfCar, QuarterCar};
 use ihbm::stability::{Hill, StabilityOptions};
 use ihbm::timedomain::{simulate, SimOptions};
 
@@ -100,14 +101,10 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
     }
 }
 
-#[test]
-fn quarter_car_from_rest_settles_on_a_stable_branch() {
-    let car = QuarterCar { F: 0.03, k3: 5e6, ..Default::default() };
-    let curve = sweep(&car, 1.0, 100.0, &SweepOptions::default()).unwrap();
-    assert_eq!(curve.folds.len(), 2);
-    let omega = 0.5 * (curve.folds[0].omega + curve.folds[1].omega);
-    // The three branch values of z1's max_abs at this Ω, with their stability.
-    let mut branches: Vec<(f64, bool)> = curve
+/// The values of output `out`'s max_abs on every branch of `curve` at `omega`
+/// (interpolated within a segment of one stability), with their stability, sorted.
+fn branches(curve: &ihbm::results::Curve, omega: f64, out: usize) -> Vec<(f64, bool)> {
+    let mut b: Vec<(f64, bool)> = curve
         .points
         .windows(2)
         .filter(|w| {
@@ -115,20 +112,53 @@ fn quarter_car_from_rest_settles_on_a_stable_branch() {
         })
         .map(|w| {
             let t = (omega - w[0].omega) / (w[1].omega - w[0].omega);
-            let a = w[0].outputs[0].max_abs;
-            (a + t * (w[1].outputs[0].max_abs - a), w[0].stability.is_stable())
+            let a = w[0].outputs[out].max_abs;
+            (a + t * (w[1].outputs[out].max_abs - a), w[0].stability.is_stable())
         })
         .collect();
-    branches.sort_by(|a, b| a.0.total_cmp(&b.0));
-    assert_eq!(branches.len(), 3, "{branches:?}");
-    assert_eq!(branches.iter().map(|b| b.1).collect::<Vec<_>>(), [true, false, true]);
-    let sim = simulate(&car, omega, &SimOptions { periods: 300, ..Default::default() }).unwrap();
-    let z1 = sim.outputs[0].max_abs;
-    let rel = |a: f64| (z1 - a).abs() / a;
-    let nearest = branches.iter().min_by(|a, b| rel(a.0).total_cmp(&rel(b.0))).unwrap();
-    assert!(nearest.1, "settled near the unstable branch: {z1} vs {branches:?}");
-    assert!(rel(nearest.0) < 2e-2, "{z1} vs {branches:?}");
-    assert!(rel(branches[1].0) > 0.1, "{z1} vs {branches:?}");
+    b.sort_by(|a, b| a.0.total_cmp(&b.0));
+    b
+}
+
+/// Integrated from rest for `periods` periods at `omega`, output `out` settles within
+/// 2 % of a stable branch and more than 10 % from the unstable one.
+fn settles_on_stable<M: ihbm::Model>(
+    model: &M,
+    omega: f64,
+    b: &[(f64, bool)],
+    out: usize,
+    periods: usize,
+) {
+    assert_eq!(b.iter().map(|b| b.1).collect::<Vec<_>>(), [true, false, true], "{b:?}");
+    let sim = simulate(model, omega, &SimOptions { periods, ..Default::default() }).unwrap();
+    let x = sim.outputs[out].max_abs;
+    let rel = |a: f64| (x - a).abs() / a;
+    let nearest = b.iter().min_by(|a, c| rel(a.0).total_cmp(&rel(c.0))).unwrap();
+    assert!(nearest.1, "settled near the unstable branch: {x} vs {b:?}");
+    assert!(rel(nearest.0) < 2e-2, "{x} vs {b:?}");
+    assert!(rel(b[1].0) > 0.1, "{x} vs {b:?}");
+}
+
+#[test]
+fn quarter_car_from_rest_settles_on_a_stable_branch() {
+    let car = QuarterCar { F: 0.03, k3: 5e6, ..Default::default() };
+    let curve = sweep(&car, 1.0, 100.0, &SweepOptions::default()).unwrap();
+    assert_eq!(curve.folds.len(), 2);
+    let omega = 0.5 * (curve.folds[0].omega + curve.folds[1].omega);
+    settles_on_stable(&car, omega, &branches(&curve, omega, 0), 0, 300);
+}
+
+/// The half car with strong cubic springs folds twice (the bounce and the pitch
+/// resonances, each bent to the right); in the pitch resonance's three-valued region
+/// the rear wheel's delayed road drives it from rest onto a stable branch.
+#[test]
+fn half_car_from_rest_settles_on_a_stable_branch() {
+    let car = HalfCar { k3f: 5e6, k3r: 5e6, F: 0.025, ..Default::default() };
+    let curve = sweep(&car, 1.0, 30.0, &SweepOptions::default()).unwrap();
+    assert_eq!(curve.folds.len(), 4, "{:?}", curve.folds);
+    let omega = 0.5 * (curve.folds[2].omega + curve.folds[3].omega);
+    let theta = 1;
+    settles_on_stable(&car, omega, &branches(&curve, omega, theta), theta, 300);
 }
 
 /// Road amplitude 10 cm, k3 = 5000 kN/m: above the wheel-hop region a complex pair of
