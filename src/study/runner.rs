@@ -2,7 +2,7 @@
 //! job (in parallel), then the files of every figure from whatever finished.
 
 use super::claims::{fmt_num, Member, TdRow};
-use super::spec::{apply, Study};
+use super::spec::Study;
 use super::summary::{self, FigureResult, FoldMember};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
@@ -82,17 +82,10 @@ struct Finished {
 }
 
 fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
-    let base = study.base_model(reg)?;
-    let default_outputs: Vec<String> = if study.outputs.is_empty() {
-        base.outputs().iter().map(|o| o.name.to_string()).collect()
-    } else {
-        study.outputs.iter().map(|o| o.get_ref().clone()).collect()
-    };
     let mut plans = Vec::new();
     for fig in &study.figures {
         let id = fig.id.get_ref().clone();
-        let mut model = base.clone_box();
-        apply(study, model.as_mut(), &fig.params)?;
+        let model = study.figure_model(fig, reg)?;
         let harmonics = fig.harmonics.unwrap_or(study.harmonics);
         let range = fig.frequency.unwrap_or(study.frequency);
         let sweep = study.sweep.merged(fig.sweep.as_ref());
@@ -148,11 +141,7 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
                 .map(|f| (f.param.get_ref().clone(), f.from, f.to, f.boundary)),
             id,
             unit: fig.unit.unwrap_or(study.unit),
-            outputs: fig
-                .outputs
-                .as_ref()
-                .map(|o| o.iter().map(|s| s.get_ref().clone()).collect())
-                .unwrap_or_else(|| default_outputs.clone()),
+            outputs: study.figure_outputs(fig, model.as_ref()),
             range: (range.from, range.to),
             harmonics,
             curves,

@@ -22,6 +22,9 @@
 //! vary = "k3"                    # a parameter, or "harmonics"
 //! values = [1e6, 3e6, 5e6]       # one curve per value
 //! params = { F = 0.01 }          # figure overrides (after the study's)
+//! # model = "half-car"           # another registered model for this figure: it starts
+//! #                              # from its own defaults (the study's params and outputs
+//! #                              # belong to the study's model); labels cover every model
 //! # harmonics, frequency, unit, outputs, sweep: as above, for this figure only
 //! timedomain = { omegas = [5.0, 8.0], schemes = ["gl", "bdf2"], periods = 100 }
 //! # or, instead of amplitude–frequency curves, fold curves in the (Ω, P) plane (one
@@ -116,7 +119,10 @@ pub struct FigureSpec {
     /// Values of `vary`, one curve each.
     #[serde(default)]
     pub values: Vec<f64>,
-    /// Figure overrides (applied after the study's).
+    /// Registered model for this figure instead of the study's. It starts from its own
+    /// defaults: the study's `params` and `outputs` are the study model's.
+    pub model: Option<Spanned<String>>,
+    /// Figure overrides (applied after the study's, or to `model`'s defaults).
     #[serde(default)]
     pub params: Params,
     /// Number of harmonics for this figure.
@@ -296,6 +302,29 @@ impl Study {
         Ok(m)
     }
 
+    /// The model of figure `fig` with its overrides applied: the study's model (with
+    /// the study's overrides) or the figure's own `model` (from its defaults).
+    pub fn figure_model(&self, fig: &FigureSpec, reg: &Registry) -> Result<Box<dyn AnyModel>> {
+        let mut m = match &fig.model {
+            None => self.base_model(reg)?,
+            Some(name) => reg.get(name.get_ref()).map_err(|e| self.at(name.span(), e))?,
+        };
+        apply(self, m.as_mut(), &fig.params)?;
+        Ok(m)
+    }
+
+    /// The panels of figure `fig` whose model is `m`: the figure's `outputs`, else the
+    /// study's (for the study's model), else every output of `m`.
+    pub fn figure_outputs(&self, fig: &FigureSpec, m: &dyn AnyModel) -> Vec<String> {
+        match (&fig.outputs, &fig.model) {
+            (Some(o), _) => o.iter().map(|s| s.get_ref().clone()).collect(),
+            (None, None) if !self.outputs.is_empty() => {
+                self.outputs.iter().map(|o| o.get_ref().clone()).collect()
+            }
+            _ => m.outputs().iter().map(|o| o.name.to_string()).collect(),
+        }
+    }
+
     /// Check everything that can be checked without solving: names, ranges, counts.
     /// Errors point at the offending value (`file:line:col`).
     pub fn validate(&self, reg: &Registry) -> Result<()> {
@@ -304,12 +333,23 @@ impl Study {
         self.check_sweep(&self.sweep, None)?;
         self.check_range(&self.frequency, "frequency")?;
         check_outputs(self, base.as_ref(), &self.outputs)?;
+        let mut models = vec![base.clone_box()];
+        for fig in &self.figures {
+            if fig.model.is_some() {
+                models.push(self.figure_model(fig, reg)?);
+            }
+        }
         for name in self.labels.keys() {
-            if !base.outputs().iter().any(|o| *o.name == **name) {
-                let known: Vec<&str> = base.outputs().iter().map(|o| &*o.name).collect();
+            if !models.iter().any(|m| m.outputs().iter().any(|o| *o.name == **name)) {
+                let mut names: Vec<&str> = models.iter().map(|m| m.name()).collect();
+                names.dedup();
+                let mut known: Vec<&str> =
+                    models.iter().flat_map(|m| m.outputs().iter().map(|o| &*o.name)).collect();
+                known.sort_unstable();
+                known.dedup();
                 return Err(self.whole(format!(
                     "labels: '{name}' is not an output of model '{}' (known: {})",
-                    base.name(),
+                    names.join("' or '"),
                     known.join(", ")
                 )));
             }
@@ -329,8 +369,7 @@ impl Study {
                 return Err(self.at(fig.id.span(), format!("figure id '{id}' is used twice")));
             }
             ids.push(id);
-            let mut m = base.clone_box();
-            apply(self, m.as_mut(), &fig.params)?;
+            let m = self.figure_model(fig, reg)?;
             if let Some(n) = fig.harmonics {
                 self.check_harmonics(n, Some(id))?;
             }
@@ -491,7 +530,7 @@ impl Study {
 /// Apply overrides, errors pointing at the parameter name: an unknown name, a value
 /// that is not finite, or one outside the model's domain (a fractional order outside
 /// [0, 2]), which would otherwise fail only when solved.
-pub(crate) fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Result<()> {
+fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Result<()> {
     for (k, &v) in params {
         m.set_param(k.get_ref(), v).map_err(|e| study.at(k.span(), e))?;
         m.validate().map_err(|e| study.at(k.span(), e))?;

@@ -136,6 +136,13 @@ pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> Str
     let (mut agree, mut disagree, mut inconclusive) = (0, 0, 0);
     for fig in figs {
         let _ = writeln!(s, "## {} (`{}`)\n", fig.title, fig.spec.id.get_ref());
+        if let Some(m) = &fig.spec.model {
+            let _ = writeln!(
+                s,
+                "Model `{}` (its defaults, then the figure's parameters).\n",
+                m.get_ref()
+            );
+        }
         if let Some(claim) = &fig.spec.claim {
             let _ = writeln!(s, "**Paper:** {claim}\n");
         }

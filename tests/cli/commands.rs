@@ -216,7 +216,7 @@ fn bad_inputs_fail_with_a_reason() {
 
 #[test]
 fn malformed_study_files_name_file_line_and_column() {
-    let cases: [(&str, &[&str]); 5] = [
+    let cases: [(&str, &[&str]); 7] = [
         ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\nbogus = 3\n", &[":3:1:", "bogus"]),
         ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = \"x\" }\n", &[":2:32:", "invalid type"]),
         ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 \n", &[":2:"]),
@@ -224,6 +224,15 @@ fn malformed_study_files_name_file_line_and_column() {
         (
             "model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\n[[figure]]\nid = \"a\"\nparams = { k9 = 1.0 }\n",
             &[":5:12:", "unknown parameter", "k9"],
+        ),
+        // a figure's own model: its name checked, and its parameters are that model's
+        (
+            "model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\n[[figure]]\nid = \"a\"\nmodel = \"nope\"\n",
+            &[":5:9:", "unknown model", "nope"],
+        ),
+        (
+            "model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\n[[figure]]\nid = \"a\"\nmodel = \"half-car\"\nparams = { m1 = 1.0 }\n",
+            &[":6:12:", "unknown parameter", "m1", "half-car"],
         ),
     ];
     for (i, (text, needles)) in cases.iter().enumerate() {

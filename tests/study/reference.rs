@@ -41,10 +41,31 @@ fn reference_study_encodes_the_papers_figures() {
     let expected = paper();
     let mut want: Vec<&str> = expected.iter().map(|e| e.0).collect();
     want.extend(["folds_k3", "folds_road", "torus_bubble"]);
+    want.extend(["half_car_v10", "half_car_v20", "half_car_v30", "half_car_jumps"]);
     assert_eq!(
         ids, want,
-        "the paper's figures, the fold curves that answer Fig. 9, the torus curve of the bubble"
+        "the paper's figures, the fold curves that answer Fig. 9, the torus curve of the \
+         bubble, the half car's"
     );
+    // The half car: bounce and pitch at three speeds with the fractional order varied.
+    // The dips its claims name are the symmetric car's wheelbase zeros, Ω(a+b)/v = π
+    // (bounce) and 2π (pitch), with the model's a + b = 2.8 m.
+    for v in [10.0, 20.0, 30.0] {
+        let id = format!("half_car_v{v}");
+        let f = s.figures.iter().find(|f| *f.id.get_ref() == id).unwrap();
+        assert_eq!(f.model.as_ref().map(|m| m.get_ref().as_str()), Some("half-car"), "{id}");
+        assert_eq!(f.vary.as_ref().map(|v| v.get_ref().as_str()), Some("p"), "{id}");
+        assert_eq!(f.values, [0.2, 0.5, 0.8], "{id}");
+        let outs: Vec<&str> =
+            f.outputs.as_ref().unwrap().iter().map(|o| o.get_ref().as_str()).collect();
+        assert_eq!(outs, ["z", "theta"], "{id}");
+        assert_eq!(f.params.iter().find(|(k, _)| k.get_ref() == "v").map(|(_, x)| *x), Some(v));
+        let claim = f.claim.as_deref().unwrap();
+        for zero in [std::f64::consts::PI * v / 2.8, std::f64::consts::TAU * v / 2.8] {
+            assert!(claim.contains(&format!("{zero:.1} rad/s")), "{id}: {zero:.1} in {claim}");
+        }
+        assert!(!f.checks.is_empty(), "{id} checks its claim");
+    }
     for (fig, (id, vary, values)) in s.figures.iter().zip(&expected) {
         assert_eq!(fig.vary.as_ref().map(|v| v.get_ref().as_str()), *vary, "{id}");
         assert_eq!(&fig.values, values, "{id}");
@@ -178,8 +199,18 @@ fn reference_study_runs_and_every_file_parses() {
     for f in ["folds_k3.svg", "folds_road.svg", "folds_road_cusps.svg", "folds_k3.csv"] {
         assert!(dir.join(f).exists(), "{f}");
     }
+    // The half car's figures are the half car's: its columns, bounce and pitch panels.
+    let csv = std::fs::read_to_string(dir.join("half_car_v20_p_0.5.csv")).unwrap();
+    assert!(csv.starts_with("omega,stable,z_max_abs,z_mean,z_amp1,theta_max_abs"), "{csv:.80}");
+    let texts = svg_texts(&dir.join("half_car_v20.svg"));
+    assert_eq!(texts.iter().filter(|t| *t == "p = 0.5").count(), 2, "{texts:?}");
+    assert!(texts.iter().any(|t| t.contains("body pitch")), "{texts:?}");
+    let v = json("half_car_jumps_v_20");
+    assert_eq!(v["model"], "half-car");
+    assert!(v["folds"].as_array().unwrap().len() >= 4, "{}", v["folds"]);
     let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
     assert!(summary.contains("jumps begin at k3 = 3.2"), "the threshold next to the paper's claim");
+    assert!(summary.contains("Model `half-car`"), "the figure's own model is named");
     for (id, _, _) in paper() {
         assert!(summary.contains(&format!("(`{id}`)")), "{id}");
     }
