@@ -81,6 +81,8 @@ pub mod book {
     pub struct Bifurcation;
     #[doc = include_str!("../book/src/modes.md")]
     pub struct Modes;
+    #[doc = include_str!("../book/src/vehicles.md")]
+    pub struct Vehicles;
     #[doc = include_str!("../book/src/timedomain.md")]
     pub struct Timedomain;
     #[doc = include_str!("../book/src/snapshots.md")]

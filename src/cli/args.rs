@@ -197,7 +197,8 @@ pub enum Command {
         json: Option<String>,
     },
     /// Run a study file; with no file, the reference study of the quarter car (the
-    /// paper's figures 4–12 and a figure with folds, jumps and an unstable branch).
+    /// paper's figures 4–12, folds, jumps and unstable branches, fold and torus
+    /// curves) and of the half car (bounce and pitch at three speeds).
     Run {
         /// A study TOML file (omit for the built-in reference study).
         study: Option<PathBuf>,
