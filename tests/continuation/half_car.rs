@@ -96,14 +96,15 @@ fn solve_complex(mut a: Vec<Vec<Complex64>>, mut rhs: Vec<Complex64>) -> Vec<Com
         let piv = (col..n).max_by(|&i, &j| a[i][col].norm().total_cmp(&a[j][col].norm())).unwrap();
         a.swap(col, piv);
         rhs.swap(col, piv);
-        for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
-            for k in col..n {
-                let v = a[col][k];
-                a[row][k] -= f * v;
+        let (top, below) = a.split_at_mut(col + 1);
+        let pivot = &top[col];
+        for (i, r) in below.iter_mut().enumerate() {
+            let f = r[col] / pivot[col];
+            for (x, p) in r[col..].iter_mut().zip(&pivot[col..]) {
+                *x -= f * p;
             }
-            let r = rhs[col];
-            rhs[row] -= f * r;
+            let v = rhs[col];
+            rhs[col + 1 + i] -= f * v;
         }
     }
     let mut x = vec![Complex64::new(0.0, 0.0); n];
