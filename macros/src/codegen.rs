@@ -5,8 +5,9 @@
 mod check;
 mod residual;
 
-use crate::analyze::{show, Analysis, OrderKey};
-use crate::parse::ModelDef;
+use ihbm_dsl::analyze::{Analysis, OrderKey};
+use ihbm_dsl::parse::ModelDef;
+use ihbm_dsl::{equation_text, kebab};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
@@ -43,31 +44,6 @@ fn float(v: f64) -> TokenStream {
     } else {
         quote!(#lit)
     }
-}
-
-/// `QuarterCar` → `quarter-car` (underscores become dashes too).
-fn kebab(name: &str) -> String {
-    let mut out = String::new();
-    for ch in name.chars() {
-        let boundary = ch == '_' || ch.is_uppercase();
-        if boundary && !out.is_empty() && !out.ends_with('-') {
-            out.push('-');
-        }
-        if ch != '_' {
-            out.extend(ch.to_lowercase());
-        }
-    }
-    out
-}
-
-/// The equations as text: `lhs = rhs`, then one `where` line per alias.
-fn equation_text(def: &ModelDef) -> Vec<String> {
-    let mut eq_text: Vec<String> =
-        def.equations.iter().map(|e| format!("{} = {}", show(&e.lhs), show(&e.rhs))).collect();
-    for l in &def.lets {
-        eq_text.push(format!("where {} = {}", l.name, show(&l.expr)));
-    }
-    eq_text
 }
 
 /// Struct docs: the user's, then the generated equations and parameter table.
@@ -241,17 +217,5 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         fn explicit_omega(&self) -> bool {
             #explicit_omega
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn kebab_case_names() {
-        assert_eq!(super::kebab("QuarterCar"), "quarter-car");
-        assert_eq!(super::kebab("Duffing"), "duffing");
-        assert_eq!(super::kebab("FractionalDuffing"), "fractional-duffing");
-        assert_eq!(super::kebab("Two_Mass"), "two-mass");
-        assert_eq!(super::kebab("Chain3"), "chain3");
     }
 }

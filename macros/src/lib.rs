@@ -1,15 +1,15 @@
 //! The `oscillator!` proc-macro of ihbm: a model declared as equations becomes a struct
 //! implementing `ihbm::model::Model`, with every symbolic check done at compile time.
 //!
-//! Pipeline: `parse` (surface syntax) → `analyze` (names, aliases, polynomial and
-//! forcing checks, signals, shape) → `codegen` (struct, `Default`, `Model` impl). The
-//! first two use no `proc_macro` API and end in a plain `analyze::Analysis`, so another
-//! reader of the language can share them; only `codegen` writes Rust. See the `ihbm`
-//! crate documentation for the language itself.
+//! Pipeline: `ihbm_dsl::parse` (surface syntax) → `ihbm_dsl::analyze` (names, aliases,
+//! polynomial and forcing checks, signals, shape) → `codegen` (struct, `Default`,
+//! `Model` impl). The first two live in `ihbm-dsl`, shared with the run-time reader of
+//! model files, so both accept the same language with the same messages; only
+//! `codegen` writes Rust. See the `ihbm` crate documentation for the language itself.
 
-mod analyze;
 mod codegen;
-mod parse;
+
+use ihbm_dsl::{analyze, parse};
 
 use proc_macro::TokenStream;
 

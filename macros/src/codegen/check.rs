@@ -4,7 +4,7 @@
 //! in the error (with its value, Ω and the parameters it reads).
 
 use super::residual::{expr, param_lets};
-use crate::analyze::{Check, Node};
+use ihbm_dsl::analyze::{Check, Node};
 use proc_macro2::TokenStream;
 use quote::quote;
 

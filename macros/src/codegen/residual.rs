@@ -3,7 +3,7 @@
 //! one sample costs what a hand-written residual costs and allocates nothing.
 
 use super::float;
-use crate::analyze::{Analysis, Node, Trig};
+use ihbm_dsl::analyze::{Analysis, Node, Trig};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, ToTokens};
 

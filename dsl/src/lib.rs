@@ -1,0 +1,160 @@
+//! The model language of ihbm: the parser and the symbolic checks of `oscillator!`,
+//! shared by the proc-macro (which turns an [`analyze::Analysis`] into Rust) and the
+//! run-time reader of model files (which turns it into a program evaluated over dual
+//! numbers). One front end, so both accept exactly the same text with the same
+//! messages.
+//!
+//! Pipeline: [`parse`] (surface syntax, `syn`) → [`analyze`] (names, aliases,
+//! polynomial and forcing checks, signals, shape) → a plain [`analyze::Analysis`]
+//! that holds no `syn`. [`read`] runs both on a string and reports errors with their
+//! line and column.
+//!
+//! ```
+//! let text = "
+//!     /// m x'' + k x = F cos(Ωt)
+//!     pub struct Spring {
+//!         params { m = 1.0, k = 4.0, F = 0.1 }
+//!         dofs { x }
+//!         equations { m * D(x, 2) + k * x = F * cos(omega * t); }
+//!     }";
+//! let model = ihbm_dsl::read(text).unwrap();
+//! assert_eq!(model.name, "spring");
+//! assert_eq!(model.analysis.signals.len(), 2); // x'' and x
+//!
+//! let bad = ihbm_dsl::read("struct S { params { a = 1.0 } dofs { x }\n equations { sin(x) = 0.0; } }");
+//! let e = &bad.err().unwrap()[0];
+//! assert_eq!((e.line, e.column), (2, 14));
+//! assert!(e.message.contains("`sin(x)` is not allowed"));
+//! ```
+
+pub mod analyze;
+pub mod parse;
+
+use analyze::{show, Analysis};
+use parse::ModelDef;
+
+/// A checked model: its declarations, its analysis, its name and its equations as text.
+pub struct Checked {
+    /// The declarations (parameters with defaults and docs, DOFs, aliases, equations).
+    pub def: ModelDef,
+    /// Signals, residual trees, outputs, coefficient checks.
+    pub analysis: Analysis,
+    /// `#[name = "..."]`, else the struct name in kebab case.
+    pub name: String,
+    /// `lhs = rhs` per equation, then `where alias = expr` per alias.
+    pub equations: Vec<String>,
+}
+
+/// One error in a model's text: where (1-based line and column, in characters) and what.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Diagnostic {
+    /// Line, from 1.
+    pub line: usize,
+    /// Column, from 1, counted in characters.
+    pub column: usize,
+    /// What is wrong and what is allowed instead (the macro's message).
+    pub message: String,
+}
+
+impl std::fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}: {}", self.line, self.column, self.message)
+    }
+}
+
+/// The deepest nesting of brackets [`read`] accepts: the parser recurses per level, and
+/// a file of ten thousand `(` must be an error, not a stack overflow.
+pub const MAX_NESTING: usize = 200;
+
+/// Parse and check the text of one `oscillator!` body (`pub struct Name { ... }`).
+pub fn read(text: &str) -> Result<Checked, Vec<Diagnostic>> {
+    nesting(text)?;
+    let def: ModelDef = syn::parse_str(text).map_err(diagnostics)?;
+    let analysis = analyze::analyze(&def).map_err(diagnostics)?;
+    let name = def.model_name.as_ref().map_or_else(|| kebab(&def.ident.to_string()), |s| s.value());
+    let equations = equation_text(&def);
+    Ok(Checked { def, analysis, name, equations })
+}
+
+/// Refuse nesting deeper than [`MAX_NESTING`] before the recursive parser sees it.
+fn nesting(text: &str) -> Result<(), Vec<Diagnostic>> {
+    let mut depth = 0usize;
+    let (mut line, mut column) = (1, 0);
+    for ch in text.chars() {
+        column += 1;
+        match ch {
+            '\n' => (line, column) = (line + 1, 0),
+            '(' | '[' | '{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(vec![Diagnostic {
+                        line,
+                        column,
+                        message: format!("brackets nested more than {MAX_NESTING} deep"),
+                    }]);
+                }
+            }
+            ')' | ']' | '}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Every error of `e`, located.
+fn diagnostics(e: syn::Error) -> Vec<Diagnostic> {
+    e.into_iter()
+        .map(|e| {
+            let start = e.span().start();
+            Diagnostic { line: start.line, column: start.column + 1, message: e.to_string() }
+        })
+        .collect()
+}
+
+/// `QuarterCar` → `quarter-car` (underscores become dashes too).
+pub fn kebab(name: &str) -> String {
+    let mut out = String::new();
+    for ch in name.chars() {
+        let boundary = ch == '_' || ch.is_uppercase();
+        if boundary && !out.is_empty() && !out.ends_with('-') {
+            out.push('-');
+        }
+        if ch != '_' {
+            out.extend(ch.to_lowercase());
+        }
+    }
+    out
+}
+
+/// The equations as text: `lhs = rhs`, then one `where` line per alias.
+pub fn equation_text(def: &ModelDef) -> Vec<String> {
+    let mut eq_text: Vec<String> =
+        def.equations.iter().map(|e| format!("{} = {}", show(&e.lhs), show(&e.rhs))).collect();
+    for l in &def.lets {
+        eq_text.push(format!("where {} = {}", l.name, show(&l.expr)));
+    }
+    eq_text
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn kebab_case_names() {
+        assert_eq!(super::kebab("QuarterCar"), "quarter-car");
+        assert_eq!(super::kebab("Duffing"), "duffing");
+        assert_eq!(super::kebab("FractionalDuffing"), "fractional-duffing");
+        assert_eq!(super::kebab("Two_Mass"), "two-mass");
+        assert_eq!(super::kebab("Chain3"), "chain3");
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_with_its_place() {
+        let text = format!(
+            "struct S {{ params {{ }} dofs {{ x }} equations {{ {}x = 0.0; }} }}",
+            "(".repeat(5000)
+        );
+        let e = super::read(&text).err().unwrap();
+        assert_eq!(e[0].line, 1);
+        assert!(e[0].message.contains("nested more than"), "{}", e[0].message);
+    }
+}
