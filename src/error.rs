@@ -24,6 +24,15 @@ pub enum Error {
     /// An output name the model does not declare.
     #[error("unknown output '{name}' for model '{model}' (known: {known})")]
     UnknownOutput { name: String, model: String, known: String },
+    /// A model's text (a model file) that the language refuses: every error, each as
+    /// `origin:line:column: message`, one per line.
+    #[error("{diagnostics}")]
+    ModelText {
+        /// Where the text came from (a file name).
+        origin: String,
+        /// The located messages.
+        diagnostics: String,
+    },
     /// A model name that is not registered.
     #[error("unknown model '{name}' (known: {known})")]
     UnknownModel { name: String, known: String },

@@ -33,6 +33,8 @@ pub mod model;
 pub mod models;
 pub mod outputs;
 pub mod results;
+#[cfg(feature = "model-files")]
+pub mod runtime;
 pub mod stability;
 pub mod timedomain;
 

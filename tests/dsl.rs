@@ -23,5 +23,7 @@ mod models;
 mod nonlinear;
 #[path = "dsl/parametric.rs"]
 mod parametric;
+#[path = "dsl/runtime.rs"]
+mod runtime;
 #[path = "dsl/timedomain.rs"]
 mod timedomain;

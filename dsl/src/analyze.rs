@@ -21,8 +21,9 @@ mod shape;
 mod syntax;
 mod tree;
 
+pub use shape::ModelShape;
 pub use syntax::show;
-pub use tree::{Analysis, Check, Node, OrderKey, Trig};
+pub use tree::{Alias, Analysis, Check, Func, Node, OrderKey, SignalKey, Terms, Trig};
 
 use crate::parse::ModelDef;
 use diag::err;

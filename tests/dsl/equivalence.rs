@@ -39,7 +39,13 @@ fn signal_map<A: Model, B: Model>(dsl: &A, hand: &B) -> Vec<usize> {
 }
 
 /// Residual and every ∂r/∂signal, ∂r/∂Ω, ∂r/∂param at one sample agree.
-fn sample_check<A: Model, B: Model>(dsl: &A, hand: &B, sig: &[f64], omega: f64, phase: f64) {
+pub(crate) fn sample_check<A: Model, B: Model>(
+    dsl: &A,
+    hand: &B,
+    sig: &[f64],
+    omega: f64,
+    phase: f64,
+) {
     let map = signal_map(dsl, hand);
     let ns = map.len();
     let ndof = dsl.dofs().len();
@@ -78,7 +84,13 @@ fn sample_check<A: Model, B: Model>(dsl: &A, hand: &B, sig: &[f64], omega: f64, 
 }
 
 /// Harmonic-balance residual and Jacobian agree (relative to their largest entry).
-fn harmonic_check<A: Model, B: Model>(dsl: &A, hand: &B, n: usize, a: &[f64], omega: f64) {
+pub(crate) fn harmonic_check<A: Model, B: Model>(
+    dsl: &A,
+    hand: &B,
+    n: usize,
+    a: &[f64],
+    omega: f64,
+) {
     let (r1, j1) = residual_jacobian(dsl, n, a, omega);
     let (r2, j2) = residual_jacobian(hand, n, a, omega);
     let dr = rel_diff(&r1, &r2, 1e-300);
@@ -87,7 +99,7 @@ fn harmonic_check<A: Model, B: Model>(dsl: &A, hand: &B, n: usize, a: &[f64], om
     assert!(dj < 1e-12, "Jacobian differs by {dj:.2e} (relative)");
 }
 
-fn coeffs(raw: &[f64], len: usize, scale: f64) -> Vec<f64> {
+pub(crate) fn coeffs(raw: &[f64], len: usize, scale: f64) -> Vec<f64> {
     (0..len).map(|i| scale * raw[i % raw.len()]).collect()
 }
 

@@ -120,6 +120,20 @@ impl Node {
         }
     }
 
+    /// The parameters the tree reads (aliases are leaves), sorted, each once.
+    pub fn params(&self) -> Vec<usize> {
+        fn collect(n: &Node, out: &mut Vec<usize>) {
+            match n {
+                Node::Param(i) if !out.contains(i) => out.push(*i),
+                other => other.for_each_child(|c| collect(c, out)),
+            }
+        }
+        let mut out = Vec::new();
+        collect(self, &mut out);
+        out.sort_unstable();
+        out
+    }
+
     /// [`Node::for_each_child`], mutably.
     pub fn for_each_child_mut(&mut self, mut f: impl FnMut(&mut Node)) {
         match self {

@@ -4,23 +4,9 @@
 //! in the error (with its value, Ω and the parameters it reads).
 
 use super::residual::{expr, param_lets};
-use ihbm_dsl::analyze::{Check, Node};
+use ihbm_dsl::analyze::Check;
 use proc_macro2::TokenStream;
 use quote::quote;
-
-/// The parameters `n` reads, sorted.
-fn params_of(n: &Node) -> Vec<usize> {
-    fn collect(n: &Node, out: &mut Vec<usize>) {
-        match n {
-            Node::Param(i) if !out.contains(i) => out.push(*i),
-            other => other.for_each_child(|c| collect(c, out)),
-        }
-    }
-    let mut out = Vec::new();
-    collect(n, &mut out);
-    out.sort_unstable();
-    out
-}
 
 /// `fn check_coefficients` (nothing if the model has no such coefficient: the trait's
 /// default accepts every point).
@@ -28,14 +14,14 @@ pub fn check_coefficients(checks: &[Check], param_names: &[String]) -> TokenStre
     if checks.is_empty() {
         return TokenStream::new();
     }
-    let mut used: Vec<usize> = checks.iter().flat_map(|c| params_of(&c.node)).collect();
+    let mut used: Vec<usize> = checks.iter().flat_map(|c| c.node.params()).collect();
     used.sort_unstable();
     used.dedup();
     let lets = param_lets(&used);
     let tests = checks.iter().map(|c| {
         let (code, _) = expr(&c.node, &[]);
         let text = &c.text;
-        let reads = params_of(&c.node);
+        let reads = c.node.params();
         let fmt = if reads.is_empty() {
             "none".to_string()
         } else {

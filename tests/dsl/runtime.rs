@@ -1,0 +1,212 @@
+//! Models read at run time (`ihbm::runtime::RuntimeModel`) against the macro: the same
+//! front end must accept the same text with the same messages at the same places, and
+//! the compiled program must be the generated code's twin.
+//!
+//! - Every compile-fail case of the macro (`macros/diagnostics/tests/ui/*.rs`), read as
+//!   a model file, fails with the message and at the line and column the compiler
+//!   printed (`*.stderr`).
+//! - Every built-in model, read from its own source text, has the compiled model's
+//!   metadata, structure hints, residual and every derivative at random samples, and
+//!   harmonic-balance residual and Jacobian, to 1e-12; and whole sweeps agree.
+
+use crate::equivalence::{coeffs, harmonic_check, sample_check};
+use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::models::{
+    BaseExcited, Duffing, FractionalDuffing, HalfCar, Quadratic, QuarterCar, TwoMassChain,
+    VanDerPol,
+};
+use ihbm::runtime::RuntimeModel;
+use ihbm::{Error, Model};
+use std::path::Path;
+
+/// The body of each `oscillator! { ... }` in `text`, with everything before it blanked
+/// (newlines kept, other characters as spaces) so that lines and columns are the file's.
+fn bodies(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(i) = text[from..].find("oscillator! {") {
+        let open = from + i + "oscillator! ".len();
+        let mut depth = 0;
+        let mut close = None;
+        for (j, ch) in text[open..].char_indices() {
+            match ch {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        close = Some(open + j);
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let close = close.expect("balanced braces");
+        let blank: String =
+            text[..=open].chars().map(|c| if c == '\n' { '\n' } else { ' ' }).collect();
+        out.push(format!("{blank}{}", &text[open + 1..close]));
+        from = close;
+    }
+    out
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn every_macro_diagnostic_is_the_run_time_readers() {
+    let dir = root().join("macros/diagnostics/tests/ui");
+    let mut cases = 0;
+    let mut entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    entries.sort();
+    for path in entries.iter().filter(|p| p.extension().is_some_and(|e| e == "rs")) {
+        let text = std::fs::read_to_string(path).unwrap();
+        let stderr = std::fs::read_to_string(path.with_extension("stderr")).unwrap();
+        let message = stderr.lines().next().unwrap().strip_prefix("error: ").unwrap();
+        let at = stderr.lines().nth(1).unwrap().rsplit(':').take(2).collect::<Vec<_>>();
+        let (line, column): (usize, usize) = (at[1].parse().unwrap(), at[0].parse().unwrap());
+        let body = &bodies(&text)[0];
+        let file = path.file_name().unwrap().to_string_lossy().to_string();
+        let e = RuntimeModel::from_text(body, &file)
+            .err()
+            .unwrap_or_else(|| panic!("{file}: accepted"));
+        let first = e.to_string().lines().next().unwrap().to_string();
+        // Errors about the whole invocation (an empty or truncated body) are placed by
+        // the compiler at the macro call, by the reader at the end of the text: the
+        // message must agree, the place only where it is inside the body.
+        let invocation = text.lines().nth(line - 1).unwrap().contains("oscillator!");
+        let prefix = format!("{file}:{line}:{column}: ");
+        if invocation {
+            assert!(first.ends_with(message), "{file}: {first:?}\n  vs {message:?}");
+        } else {
+            assert_eq!(first, format!("{prefix}{message}"), "{file}");
+        }
+        cases += 1;
+    }
+    assert!(cases >= 20, "{cases} cases");
+}
+
+/// `compiled` and the model read from its own source agree in everything.
+fn twin_of<M: Model>(compiled: &M, runtime: &RuntimeModel, omega: f64) {
+    assert_eq!(runtime.name(), compiled.name());
+    assert_eq!(runtime.description(), compiled.description());
+    assert_eq!(runtime.params_info(), compiled.params_info());
+    assert_eq!(runtime.signals(), compiled.signals());
+    assert_eq!(runtime.equations(), compiled.equations());
+    assert_eq!(
+        (runtime.degree(), runtime.max_forcing_harmonic(), runtime.parametric_harmonic()),
+        (compiled.degree(), compiled.max_forcing_harmonic(), compiled.parametric_harmonic())
+    );
+    assert_eq!(runtime.affine_signals(), compiled.affine_signals());
+    assert_eq!(runtime.explicit_omega(), compiled.explicit_omega());
+    let ns = compiled.signals().len();
+    for (k, phase) in [0.0, 0.7, 2.9, 5.1].into_iter().enumerate() {
+        let sig: Vec<f64> = (0..ns).map(|i| 0.013 * (1.0 + ((i + 3 * k) as f64).sin())).collect();
+        sample_check(runtime, compiled, &sig, omega, phase);
+    }
+    let n = 5;
+    let len = compiled.dofs().len() * (2 * n + 1);
+    let a = coeffs(&[0.01, -0.02, 0.005, 0.013, -0.007, 0.002, 0.0], len, 1.0);
+    harmonic_check(runtime, compiled, n, &a, omega);
+}
+
+fn from_source(file: &str, which: usize) -> RuntimeModel {
+    let text = std::fs::read_to_string(root().join("models").join(file)).unwrap();
+    RuntimeModel::from_text(&bodies(&text)[which], file).unwrap()
+}
+
+#[test]
+fn every_built_in_model_read_at_run_time_is_the_compiled_one() {
+    twin_of(&QuarterCar::default(), &from_source("quarter_car.rs", 0), 8.0);
+    twin_of(&Duffing::default(), &from_source("duffing.rs", 0), 1.2);
+    twin_of(&FractionalDuffing::default(), &from_source("duffing.rs", 1), 1.2);
+    twin_of(&TwoMassChain::default(), &from_source("chain.rs", 0), 1.5);
+    twin_of(&BaseExcited::default(), &from_source("base_excited.rs", 0), 2.0);
+    twin_of(&Quadratic::default(), &from_source("quadratic.rs", 0), 0.9);
+    twin_of(&VanDerPol::default(), &from_source("van_der_pol.rs", 0), 1.0);
+    twin_of(&HalfCar::default(), &from_source("half_car.rs", 0), 22.0);
+}
+
+#[test]
+fn sweeps_of_a_run_time_model_are_the_compiled_models() {
+    // The quarter car with folds (its unstable branch and jumps), and the half car.
+    let mut rt = from_source("quarter_car.rs", 0);
+    rt.set_param("k3", 5e6).unwrap();
+    rt.set_param("F", 0.03).unwrap();
+    let qc = QuarterCar { k3: 5e6, F: 0.03, ..Default::default() };
+    let opts = SweepOptions::default();
+    let (a, b) = (sweep(&rt, 1.0, 100.0, &opts).unwrap(), sweep(&qc, 1.0, 100.0, &opts).unwrap());
+    assert_eq!(a.points.len(), b.points.len());
+    assert_eq!(a.folds.len(), 2);
+    for (p, q) in a.points.iter().zip(&b.points) {
+        assert!((p.omega - q.omega).abs() <= 1e-12 * q.omega, "{} vs {}", p.omega, q.omega);
+        assert_eq!(p.stability.is_stable(), q.stability.is_stable());
+        let scale = q.coeffs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let d = p.coeffs.iter().zip(&q.coeffs).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(d <= 1e-12 * scale, "Ω {}: {d:e}", q.omega);
+    }
+    let hc = from_source("half_car.rs", 0);
+    let (a, b) = (
+        sweep(&hc, 1.0, 100.0, &opts).unwrap(),
+        sweep(&HalfCar::default(), 1.0, 100.0, &opts).unwrap(),
+    );
+    assert_eq!(a.points.len(), b.points.len());
+}
+
+#[test]
+fn a_run_time_coefficient_that_is_not_finite_is_named() {
+    let text = "struct Pole { params { m = 1.0, k = 4.0, w1 = 3.0, F = 1.0 } dofs { x }
+        equations { m * D(x, 2) + sqrt(k - m * omega.powi(2)) * x + x / (omega - w1) = F * cos(omega * t); } }";
+    let m = RuntimeModel::from_text(text, "pole.ihbm").unwrap();
+    let e = ihbm::corrector::solve(&m, 2.5, &Default::default(), None).unwrap_err();
+    match e {
+        Error::NonFiniteCoefficient { ref term, ref params, omega, .. } => {
+            assert_eq!(term, "sqrt(k - m * omega.powi(2))");
+            assert_eq!(params, "m = 1, k = 4");
+            assert_eq!(omega, 2.5);
+        }
+        other => panic!("{other}"),
+    }
+    let e = ihbm::corrector::solve(&m, 1.0, &Default::default(), None).map(|_| ());
+    assert!(e.is_ok(), "{e:?}");
+}
+
+#[test]
+fn unreadable_huge_and_missing_model_files_are_refused_with_their_place() {
+    let dir =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("ihbm-runtime-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bytes = dir.join("bytes.ihbm");
+    std::fs::write(&bytes, b"struct S {\n  params { a\xff = 1.0 } }").unwrap();
+    let e = RuntimeModel::from_file(&bytes).unwrap_err().to_string();
+    assert!(e.contains("bytes.ihbm:2:13: not UTF-8"), "{e}");
+    let huge = dir.join("huge.ihbm");
+    std::fs::write(&huge, "/".repeat(ihbm::runtime::MAX_TEXT_BYTES + 1)).unwrap();
+    let e = RuntimeModel::from_file(&huge).unwrap_err().to_string();
+    assert!(e.contains("at most") && e.contains("huge.ihbm"), "{e}");
+    let e = RuntimeModel::from_file(&dir.join("missing.ihbm")).unwrap_err().to_string();
+    assert!(e.contains("missing.ihbm"), "{e}");
+    // a syntax error, a missing equation, an unknown name: each placed
+    for (text, at, needle) in [
+        (
+            "struct S { params { m = 1.0 } dofs { x }\nequations { m * D(x, 2) + = 0.0; } }",
+            "2:27",
+            "expected",
+        ),
+        (
+            "struct S { params { m = 1.0 } dofs { x, y }\nequations { m * D(x, 2) = 0.0; } }",
+            "2:1",
+            "1 equation(s) for 2 DOF(s)",
+        ),
+        (
+            "struct S { params { m = 1.0 } dofs { x }\nequations { m * D(x, 2) + q * x = 0.0; } }",
+            "2:27",
+            "`q`",
+        ),
+    ] {
+        let e = RuntimeModel::from_text(text, "s.ihbm").unwrap_err().to_string();
+        assert!(e.starts_with(&format!("s.ihbm:{at}: ")) && e.contains(needle), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
