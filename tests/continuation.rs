@@ -8,10 +8,14 @@
 mod backbones;
 #[path = "continuation/convergence.rs"]
 mod convergence;
+#[path = "continuation/cycle_families.rs"]
+mod cycle_families;
 #[path = "continuation/duffing.rs"]
 mod duffing;
 #[path = "continuation/fold_curves.rs"]
 mod fold_curves;
+#[path = "continuation/forced_peaks.rs"]
+mod forced_peaks;
 #[path = "continuation/period_two.rs"]
 mod period_two;
 #[path = "continuation/quarter_car.rs"]

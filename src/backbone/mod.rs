@@ -26,6 +26,8 @@
 
 mod cycle;
 mod epmc;
+mod family;
+mod hopf;
 mod linear;
 
 use crate::balance::Balance;
@@ -37,6 +39,7 @@ use crate::outputs::OutputEval;
 use crate::results::PointOutput;
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
+pub use family::{cycles, cycles_with, CycleFamily, CyclePoint, FamilyEnd, FamilyOptions, Hopf};
 pub(crate) use linear::{linear_mode, Linearisation};
 
 /// Where a trace stops.
@@ -187,6 +190,38 @@ pub fn backbone_with<M: Model>(
     trace(model, opts, Goal::Amplitude(opts.to), opts.start * opts.to, observer)
 }
 
+/// The EPMC system of mode `mode` (1-based) of `model`, scaled at rest: its linear
+/// mode and the mass matrix (row-major). The phase fixes the sine of harmonic 1 of
+/// the mode's largest DOF, so two systems of the same model and mode share it.
+fn system<M: Model>(
+    model: &M,
+    mode: usize,
+    harmonics: usize,
+    tol: f64,
+) -> Result<(Epmc<'_, M>, linear::LinearMode, Vec<f64>)> {
+    let lm = linear_mode(model, mode)?;
+    let bal = Balance::new(model, harmonics)?;
+    let n = bal.len();
+    let len = 2 * harmonics + 1;
+    let ndof = model.dofs().len();
+    let mass = Linearisation::at_rest(model, lm.omega).mass();
+    // the reference DOF: the mode's largest entry (its sine of harmonic 1 is fixed)
+    let dref =
+        (0..ndof).max_by(|&i, &j| lm.shape[i].abs().total_cmp(&lm.shape[j].abs())).unwrap_or(0);
+    let mut sys = Epmc::new(bal, mass.clone(), dref * len + harmonics + 1, tol);
+    sys.so = lm.omega;
+    let mut j0 = faer::Mat::<f64>::zeros(n, n);
+    let mut r = vec![0.0; n];
+    sys.bal.jacobian(&vec![0.0; n], lm.omega, &mut r, j0.as_mut());
+    sys.sr = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .fold(0.0f64, |m, (i, j)| m.max(j0[(i, j)].abs()));
+    if !(sys.sr > 0.0 && sys.sr.is_finite()) {
+        sys.sr = 1.0;
+    }
+    Ok((sys, lm, mass))
+}
+
 /// Continue mode `opts.mode` from the output amplitude `start` until `goal`.
 fn trace<M: Model>(
     model: &M,
@@ -204,27 +239,11 @@ fn trace<M: Model>(
             expected: format!("one of the model's {} outputs", outputs.len()),
         });
     }
-    let lm = linear_mode(model, opts.mode)?;
-    let bal = Balance::new(model, opts.harmonics)?;
-    let n = bal.len();
+    let (mut sys, lm, mass) = system(model, opts.mode, opts.harmonics, opts.tol)?;
+    let n = sys.n;
     let nh = opts.harmonics;
     let len = 2 * nh + 1;
     let ndof = model.dofs().len();
-    let mass = Linearisation::at_rest(model, lm.omega).mass();
-    // the reference DOF: the mode's largest entry (its sine of harmonic 1 is fixed)
-    let dref =
-        (0..ndof).max_by(|&i, &j| lm.shape[i].abs().total_cmp(&lm.shape[j].abs())).unwrap_or(0);
-    let mut sys = Epmc::new(bal, mass.clone(), dref * len + nh + 1, opts.tol);
-    sys.so = lm.omega;
-    let mut j0 = faer::Mat::<f64>::zeros(n, n);
-    let mut r = vec![0.0; n];
-    sys.bal.jacobian(&vec![0.0; n], lm.omega, &mut r, j0.as_mut());
-    sys.sr = (0..n)
-        .flat_map(|i| (0..n).map(move |j| (i, j)))
-        .fold(0.0f64, |m, (i, j)| m.max(j0[(i, j)].abs()));
-    if !(sys.sr > 0.0 && sys.sr.is_finite()) {
-        sys.sr = 1.0;
-    }
     // the start: the linear mode, mass-normalised, at a small amplitude
     let mnorm: f64 = (0..ndof)
         .flat_map(|i| (0..ndof).map(move |j| (i, j)))
@@ -349,28 +368,10 @@ impl<M: Model> Tracer<'_, M> {
             }));
         }
         loop {
-            let h = self.h;
-            let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
-            let target = dot(t, y) + h;
-            let it = match self.sys.correct(&mut z, t, target, self.opts.max_iter) {
-                Ok(it) => it,
-                Err(why) => {
-                    self.h *= 0.5;
-                    if self.h < self.opts.min_step {
-                        return Some(BackboneEnd::Stalled(why));
-                    }
-                    continue;
-                }
+            let (z, tn, it) = match self.advance(y, t) {
+                Ok(x) => x,
+                Err(why) => return Some(BackboneEnd::Stalled(why)),
             };
-            let mut tn = self.sys.tangent();
-            if dot(&tn, t) < 0.0 {
-                tn.iter_mut().for_each(|v| *v = -*v);
-            }
-            let angle = dot(&tn, t).clamp(-1.0, 1.0).acos();
-            if angle > 0.3 && h > 2.0 * self.opts.min_step {
-                self.h *= 0.5;
-                continue;
-            }
             let p = self.point(&z);
             match self.goal {
                 Goal::Amplitude(to) if self.amplitude(&p) >= to => {
@@ -392,15 +393,53 @@ impl<M: Model> Tracer<'_, M> {
             res.points.push(p);
             *y = z;
             *t = tn;
-            let factor = match it {
-                0..=2 => 1.6,
-                3 => 1.25,
-                4 => 1.0,
-                _ => 0.6,
-            };
-            self.h = (h * factor).clamp(self.opts.min_step, self.opts.max_step);
+            self.adapt(it);
             return None;
         }
+    }
+
+    /// One pseudo-arclength step from `y` along `t`: the corrected point, its tangent
+    /// (oriented along `t`) and the Newton iterations; the step is halved on a failure
+    /// or a turn of the tangent by more than 0.3 rad, and the corrector's reason is
+    /// returned below the smallest step. Nothing is recorded: the caller accepts the
+    /// point (and then calls [`Tracer::adapt`]) or not.
+    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<(Vec<f64>, Vec<f64>, usize), String> {
+        loop {
+            let h = self.h;
+            let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
+            let target = dot(t, y) + h;
+            let it = match self.sys.correct(&mut z, t, target, self.opts.max_iter) {
+                Ok(it) => it,
+                Err(why) => {
+                    self.h *= 0.5;
+                    if self.h < self.opts.min_step {
+                        return Err(why);
+                    }
+                    continue;
+                }
+            };
+            let mut tn = self.sys.tangent();
+            if dot(&tn, t) < 0.0 {
+                tn.iter_mut().for_each(|v| *v = -*v);
+            }
+            let angle = dot(&tn, t).clamp(-1.0, 1.0).acos();
+            if angle > 0.3 && h > 2.0 * self.opts.min_step {
+                self.h *= 0.5;
+                continue;
+            }
+            return Ok((z, tn, it));
+        }
+    }
+
+    /// The next step after a point accepted in `it` Newton iterations.
+    fn adapt(&mut self, it: usize) {
+        let factor = match it {
+            0..=2 => 1.6,
+            3 => 1.25,
+            4 => 1.0,
+            _ => 0.6,
+        };
+        self.h = (self.h * factor).clamp(self.opts.min_step, self.opts.max_step);
     }
 
     /// The point between `y` and `z` where ξ = 0, by Newton on the row `ξ = 0` from
