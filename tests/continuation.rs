@@ -16,6 +16,8 @@ mod duffing;
 mod fold_curves;
 #[path = "continuation/forced_peaks.rs"]
 mod forced_peaks;
+#[path = "continuation/internal_resonances.rs"]
+mod internal_resonances;
 #[path = "continuation/period_two.rs"]
 mod period_two;
 #[path = "continuation/quarter_car.rs"]

@@ -138,6 +138,8 @@ pub struct CycleFamily {
     pub parameter: String,
     /// See `parameter`.
     pub range: (f64, f64),
+    /// The parameter's index in the model's parameters.
+    pub param_index: usize,
     /// The linearised mode the first cycle was found from (1-based).
     pub mode: usize,
     /// Output names, in model order.
@@ -220,13 +222,20 @@ pub fn cycles_with<M: Model + Clone>(
         ..Default::default()
     };
     let eval = OutputEval::new(&m0, opts.harmonics);
-    let mut tracer =
-        Tracer { sys, eval, h: opts.initial_step, opts: bo, goal: Goal::Amplitude(f64::INFINITY) };
+    let mut tracer = Tracer {
+        sys,
+        eval,
+        h: opts.initial_step,
+        opts: bo,
+        goal: Goal::Amplitude(f64::INFINITY),
+        others: Vec::new(),
+    };
     let mut fam = CycleFamily {
         model: model.name().to_string(),
         harmonics: opts.harmonics,
         parameter: opts.param.clone(),
         range: (from, to),
+        param_index: index,
         mode: first.mode,
         output_names: m0.outputs().iter().map(|o| o.name.to_string()).collect(),
         points: Vec::new(),

@@ -115,6 +115,49 @@ pub struct ModePoint {
     pub outputs: Vec<PointOutput>,
 }
 
+/// What happens at a [`ModeEvent`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    /// The continued output's amplitude has an extremum along the branch: the
+    /// backbone turns back in amplitude (and is followed on).
+    Turn,
+    /// Harmonic `ratio` of the mode's frequency crosses the linear natural frequency
+    /// of mode `mode`: a `ratio:1` internal resonance (only for harmonics present in
+    /// the motion).
+    InternalResonance {
+        /// The other mode (1-based).
+        mode: usize,
+        /// The harmonic k of `k ω = ω_mode`.
+        ratio: usize,
+    },
+}
+
+impl EventKind {
+    /// `"turn"` or `"internal-resonance"` (the JSON's `kind`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventKind::Turn => "turn",
+            EventKind::InternalResonance { .. } => "internal-resonance",
+        }
+    }
+}
+
+/// A turn or an internal resonance met by a backbone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModeEvent {
+    /// What happens.
+    pub kind: EventKind,
+    /// Where: the mode's frequency (for an internal resonance exactly `ω_j / k`) and
+    /// the continued output's `max |x(t)|` there, interpolated between the points
+    /// around it (a turn: the vertex of the parabola through the three points at it;
+    /// an internal resonance: linear in ω between the two points around it).
+    pub omega: f64,
+    /// See `omega`.
+    pub amplitude: f64,
+    /// The index of the point after which it happens.
+    pub after: usize,
+}
+
 /// Why a backbone ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BackboneEnd {
@@ -156,6 +199,8 @@ pub struct Backbone {
     pub linear: (f64, f64),
     /// Points, by increasing arc length from the start.
     pub points: Vec<ModePoint>,
+    /// The turns and internal resonances met on the way, in order.
+    pub events: Vec<ModeEvent>,
     /// Why it ended.
     pub ended: BackboneEnd,
     /// Newton iterations and accepted steps.
@@ -280,6 +325,7 @@ fn trace<M: Model>(
         to: opts.to,
         linear: (f64::NAN, f64::NAN),
         points: Vec::new(),
+        events: Vec::new(),
         ended: BackboneEnd::Stopped,
         iterations: 0,
         steps: 0,
@@ -298,7 +344,11 @@ fn trace<M: Model>(
     if t[n + 2] < 0.0 {
         t.iter_mut().for_each(|v| *v = -*v);
     }
-    let mut tracer = Tracer { sys, eval, h: opts.initial_step, opts: opts.clone(), goal };
+    let others = (1..=ndof)
+        .filter(|&k| k != opts.mode)
+        .filter_map(|k| linear_mode(model, k).ok().map(|m| (k, m.omega)))
+        .collect();
+    let mut tracer = Tracer { sys, eval, h: opts.initial_step, opts: opts.clone(), goal, others };
     let start = tracer.point(&y);
     res.linear = (start.omega, start.damping);
     res.points.push(start);
@@ -327,6 +377,8 @@ struct Tracer<'m, M: Model> {
     h: f64,
     opts: BackboneOptions,
     goal: Goal,
+    /// The other modes (1-based) and their linear frequencies: internal resonances.
+    others: Vec<(usize, f64)>,
 }
 
 impl<M: Model> Tracer<'_, M> {
@@ -367,35 +419,85 @@ impl<M: Model> Tracer<'_, M> {
                 ),
             }));
         }
-        loop {
-            let (z, tn, it) = match self.advance(y, t) {
-                Ok(x) => x,
-                Err(why) => return Some(BackboneEnd::Stalled(why)),
-            };
-            let p = self.point(&z);
-            match self.goal {
-                Goal::Amplitude(to) if self.amplitude(&p) >= to => {
-                    return Some(self.land(y, &z, res));
-                }
-                Goal::ZeroDamping(_) if self.sys.xi(y) * p.xi <= 0.0 => {
-                    return Some(self.land_zero_damping(y, &z, res));
-                }
-                Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
-                    return Some(BackboneEnd::Stalled(format!(
-                        "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
-                        p.xi,
-                        res.output_names[self.opts.output],
-                        self.amplitude(&p)
-                    )));
-                }
-                _ => {}
+        let (z, tn, it) = match self.advance(y, t) {
+            Ok(x) => x,
+            Err(why) => return Some(BackboneEnd::Stalled(why)),
+        };
+        let p = self.point(&z);
+        match self.goal {
+            Goal::Amplitude(to) if self.amplitude(&p) >= to => {
+                return Some(self.land(y, &z, res));
             }
-            res.points.push(p);
-            *y = z;
-            *t = tn;
-            self.adapt(it);
-            return None;
+            Goal::ZeroDamping(_) if self.sys.xi(y) * p.xi <= 0.0 => {
+                return Some(self.land_zero_damping(y, &z, res));
+            }
+            Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
+                return Some(BackboneEnd::Stalled(format!(
+                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
+                    p.xi,
+                    res.output_names[self.opts.output],
+                    self.amplitude(&p)
+                )));
+            }
+            _ => {}
         }
+        self.push(res, p);
+        *y = z;
+        *t = tn;
+        self.adapt(it);
+        None
+    }
+
+    /// Append `p` to `res`, with the events between the last point and it.
+    fn push(&self, res: &mut Backbone, p: ModePoint) {
+        let k = res.points.len();
+        if let (Some(a), Some(b)) = (k.checked_sub(2).map(|i| &res.points[i]), res.points.last()) {
+            let (aa, ab, ap) = (self.amplitude(a), self.amplitude(b), self.amplitude(&p));
+            if (ab - aa) * (ap - ab) < 0.0 {
+                // the vertex of the parabola through the three points (in the index)
+                let t = 0.5 * (aa - ap) / (aa - 2.0 * ab + ap);
+                let quad = |fm: f64, f0: f64, fp: f64| {
+                    f0 + 0.5 * (fp - fm) * t + 0.5 * (fp - 2.0 * f0 + fm) * t * t
+                };
+                res.events.push(ModeEvent {
+                    kind: EventKind::Turn,
+                    omega: quad(a.omega, b.omega, p.omega),
+                    amplitude: quad(aa, ab, ap),
+                    after: k - 1,
+                });
+            }
+        }
+        if let Some(b) = res.points.last() {
+            let (ab, ap) = (self.amplitude(b), self.amplitude(&p));
+            for &(mode, wj) in &self.others {
+                for h in 1..=self.opts.harmonics {
+                    let (sb, sp) = (h as f64 * b.omega - wj, h as f64 * p.omega - wj);
+                    let crosses = (sb < 0.0 && sp >= 0.0) || (sb > 0.0 && sp <= 0.0);
+                    if !crosses || !self.harmonic_present(&p.coeffs, h) {
+                        continue;
+                    }
+                    let omega = wj / h as f64;
+                    let f = (omega - b.omega) / (p.omega - b.omega);
+                    res.events.push(ModeEvent {
+                        kind: EventKind::InternalResonance { mode, ratio: h },
+                        omega,
+                        amplitude: ab + f * (ap - ab),
+                        after: k - 1,
+                    });
+                }
+            }
+        }
+        res.points.push(p);
+    }
+
+    /// Whether harmonic `h` is in the motion (any DOF's above 1e-9 of the largest
+    /// first harmonic): a symmetric model's even harmonics are not, and meet nothing.
+    fn harmonic_present(&self, coeffs: &[f64], h: usize) -> bool {
+        let nh = self.opts.harmonics;
+        let len = 2 * nh + 1;
+        let size =
+            |k: usize| coeffs.chunks(len).map(|c| c[k].hypot(c[nh + k])).fold(0.0f64, f64::max);
+        size(h) > 1e-9 * size(1)
     }
 
     /// One pseudo-arclength step from `y` along `t`: the corrected point, its tangent
@@ -454,7 +556,7 @@ impl<M: Model> Tracer<'_, M> {
         match self.sys.correct(&mut w, &e, 0.0, self.opts.max_iter.max(LOCATE_ITER)) {
             Ok(_) => {
                 let p = self.point(&w);
-                res.points.push(p);
+                self.push(res, p);
                 BackboneEnd::Reached
             }
             Err(why) => BackboneEnd::Stalled(format!("could not locate ξ = 0: {why}")),
@@ -494,7 +596,7 @@ impl<M: Model> Tracer<'_, M> {
                 break;
             }
         }
-        res.points.push(best);
+        self.push(res, best);
         BackboneEnd::Reached
     }
 }

@@ -2,7 +2,7 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
-use crate::backbone::{Backbone, BackboneEnd};
+use crate::backbone::{Backbone, BackboneEnd, CycleFamily, FamilyEnd, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
 use crate::engine::progress;
@@ -150,8 +150,19 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             pb.finish_and_clear();
             write_backbone(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
         }
-        Command::Cycle { name, omega, harmonics, set, json } => {
+        Command::Cycle { name, omega, harmonics, set, param, from, to, json, csv, plot } => {
             let model = configured(reg, &name, &set)?;
+            if let (Some(param), Some(from), Some(to)) = (param, from, to) {
+                distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
+                let pb = progress::spinner(&format!(
+                    "limit cycles of {name} near ω = {omega} for {param} from {from} to {to}"
+                ));
+                let opts =
+                    FamilyOptions { param, from, to, omega, harmonics, ..Default::default() };
+                let res = model.cycles(&opts).map_err(Failure::from_error);
+                pb.finish_and_clear();
+                return write_cycles(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out);
+            }
             let pb = progress::spinner(&format!("limit cycle of {name} near ω = {omega}"));
             let res = model.cycle(omega, harmonics).map_err(Failure::from_error);
             pb.finish_and_clear();
@@ -270,6 +281,21 @@ fn write_backbone(
             b.model, b.mode, b.harmonics, b.points.len(), b.ended, first.omega, first.damping,
             last.omega, last.damping, last.outputs[b.output].max_abs,
         ))?;
+        for e in &b.events {
+            let what = match e.kind {
+                crate::backbone::EventKind::Turn => "turn in amplitude".to_string(),
+                crate::backbone::EventKind::InternalResonance { mode, ratio } => {
+                    format!("{ratio}:1 internal resonance with mode {mode}")
+                }
+            };
+            w(
+                out,
+                format_args!(
+                    "  {what} at ω = {:.6} rad/s, max |{name}| = {:.6e}\n",
+                    e.omega, e.amplitude
+                ),
+            )?;
+        }
     }
     match &b.ended {
         BackboneEnd::Reached => Ok(()),
@@ -278,6 +304,59 @@ fn write_backbone(
             b.to,
             b.points.len()
         ))),
+    }
+}
+
+/// Write a family of limit cycles: CSV, SVG, and the JSON or a human summary; a
+/// family that stalled is written, then reported as a failure (one that collapsed to
+/// the equilibrium ended where cycles end: at the Hopf point).
+fn write_cycles(
+    f: &CycleFamily,
+    csv: Option<&Path>,
+    json: Option<&str>,
+    plot: Option<&Path>,
+    out: &mut dyn Write,
+) -> Result<(), Failure> {
+    if let Some(path) = csv {
+        report::write_file(path, &report::cycles_csv(f)).map_err(Failure::failed)?;
+    }
+    if let Some(path) = plot {
+        let title = format!(
+            "{}: limit cycles against {} (mode {}), N = {}",
+            f.model, f.parameter, f.mode, f.harmonics
+        );
+        let svg = report::cycles_svg(f, &title).map_err(Failure::failed)?;
+        report::write_file(path, &svg).map_err(Failure::failed)?;
+    }
+    if let Some(target) = json {
+        emit_json(&report::cycles_json(f), target, out)?;
+    } else if let (Some(first), Some(last)) = (f.points.first(), f.points.last()) {
+        let x = f.output_names.first().map_or("x", |s| s.as_str());
+        w(out, format_args!(
+            "{}: limit cycles in {} (mode {}), N = {}: {} points, {}\n  first: {} = {:.6}, ω = {:.6} rad/s, max |{x}| = {:.6e}\n  last:  {} = {:.6}, ω = {:.6} rad/s, max |{x}| = {:.6e}\n",
+            f.model, f.parameter, f.mode, f.harmonics, f.points.len(), f.ended,
+            f.parameter, first.value, first.omega, first.outputs.first().map_or(f64::NAN, |o| o.max_abs),
+            f.parameter, last.value, last.omega, last.outputs.first().map_or(f64::NAN, |o| o.max_abs),
+        ))?;
+        match f.hopf {
+            Some(h) => w(
+                out,
+                format_args!(
+                    "  Hopf point: {} = {:.10}, ω = {:.10} rad/s\n",
+                    f.parameter, h.value, h.omega
+                ),
+            )?,
+            None => w(out, format_args!("  no Hopf point in the range covered\n"))?,
+        }
+    }
+    match &f.ended {
+        FamilyEnd::Stalled(why) => Err(Failure::failed(format!(
+            "the limit cycles did not reach {} = {} ({why}); the {} points traced are written",
+            f.parameter,
+            f.range.1,
+            f.points.len()
+        ))),
+        _ => Ok(()),
     }
 }
 

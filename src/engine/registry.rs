@@ -8,7 +8,7 @@ use super::{
     self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
     SweepSettings,
 };
-use crate::backbone::{Backbone, Cycle};
+use crate::backbone::{Backbone, Cycle, CycleFamily, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
@@ -64,6 +64,8 @@ pub trait AnyModel: Send + Sync {
     fn backbone(&self, s: &BackboneSettings) -> Result<Backbone>;
     /// The limit cycle near a frequency guess.
     fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle>;
+    /// The limit cycle continued in a parameter, with its Hopf point.
+    fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
     /// Harmonic balance against time integration at one frequency.
@@ -175,6 +177,11 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         let mut c = crate::backbone::cycle(&self.model, &opts).map_err(|e| self.named(e))?;
         c.model = self.name.clone();
         Ok(c)
+    }
+    fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily> {
+        let mut f = crate::backbone::cycles(&self.model, opts).map_err(|e| self.named(e))?;
+        f.model = self.name.clone();
+        Ok(f)
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)

@@ -764,3 +764,74 @@ fn cycle_writes_contract_json() {
     assert!(stderr(&o).contains("no limit cycle"), "{}", stderr(&o));
     assert_rejected(&["cycle", "van-der-pol", "--omega", "-1"], &["frequency guess"]);
 }
+
+/// `cycle --param` continues the van der Pol cycle in μ through its Hopf point at
+/// μ = 0 (the equilibrium's eigenvalues μ/2 ± i√(1 - μ²/4)): the JSON names it with
+/// ω = 1, every point keeps amplitude 2 + O(μ²) and ω = 1 - μ²/16 + O(μ⁴), stable
+/// for μ > 0 and unstable for μ < 0; CSV and SVG are written; bad input fails with
+/// the reason.
+#[test]
+fn cycle_families_write_points_and_the_hopf_point() {
+    let (csv, svg) = (tmp("cycles.csv"), tmp("cycles.svg"));
+    let o = ihbm(&[
+        "cycle",
+        "van-der-pol",
+        "--omega",
+        "1",
+        "--param",
+        "mu",
+        "--from",
+        "1",
+        "--to",
+        "-0.5",
+        "--harmonics",
+        "15",
+        "--json",
+        "-",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["parameter"], "mu");
+    assert_eq!(v["ended"], "reached the end of the range");
+    assert!(v["hopf"]["value"].as_f64().unwrap().abs() < 1e-10, "{}", v["hopf"]);
+    assert!((v["hopf"]["omega"].as_f64().unwrap() - 1.0).abs() < 1e-10, "{}", v["hopf"]);
+    let points = v["points"].as_array().unwrap();
+    assert_eq!(keys(&points[0])[..5], ["value", "omega", "period", "stable", "outputs"]);
+    for p in points {
+        let (mu, w) = (p["value"].as_f64().unwrap(), p["omega"].as_f64().unwrap());
+        let period = p["period"].as_f64().unwrap();
+        assert!((period * w - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+        if mu.abs() <= 0.2 {
+            assert!(
+                (w - (1.0 - mu * mu / 16.0)).abs() < 0.05 * mu.powi(4) + 1e-12,
+                "μ = {mu}: {w}"
+            );
+            let a = p["outputs"]["x"]["max_abs"].as_f64().unwrap();
+            assert!((a - 2.0).abs() < 0.1 * mu * mu + 1e-9, "μ = {mu}: {a}");
+        }
+        if mu.abs() > 1e-3 {
+            assert_eq!(p["stable"], mu > 0.0, "μ = {mu}");
+        }
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("mu,omega,period,stable,x_max_abs,x_mean,x_amp1\n"), "{text}");
+    assert_eq!(text.lines().count(), 1 + points.len());
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("Hopf point"));
+
+    assert_rejected(
+        &["cycle", "van-der-pol", "--omega", "1", "--param", "nu", "--from", "1", "--to", "0"],
+        &["nu", "mu"],
+    );
+    let o =
+        ihbm(&["cycle", "duffing", "--omega", "1", "--param", "c", "--from", "0.1", "--to", "0.2"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("no limit cycle"), "{}", stderr(&o));
+    assert_rejected(
+        &["cycle", "van-der-pol", "--omega", "1", "--param", "mu", "--from", "1"],
+        &["--to"],
+    );
+}

@@ -11,11 +11,13 @@
 //! ([`super::legend`]).
 
 mod backbone;
+mod cycles;
 mod folds;
 mod key;
 mod svg;
 
 pub use backbone::backbone_svg;
+pub use cycles::cycles_svg;
 pub use folds::{folds_svg, folds_svg_family, trend_svg};
 
 use super::legend::{self, Placement, Rect};
