@@ -63,6 +63,11 @@ pub enum Command {
         /// switched onto at the first symmetry-breaking branch point of the curve.
         #[arg(long, conflicts_with = "period")]
         break_symmetry: bool,
+        /// Draw on the `--plot` the backbone of every mode whose linear natural
+        /// frequency is in the range, on each output's panel up to the sweep's largest
+        /// amplitude of it (dotted, one legend entry per mode).
+        #[arg(long, requires = "plot", conflicts_with_all = ["period", "break_symmetry"])]
+        backbone: bool,
         /// Harmonics, overrides, output files and continuation settings.
         #[command(flatten)]
         curve: CurveArgs,
@@ -320,6 +325,7 @@ Examples:
   ihbm sweep quarter-car --from 1 --to 80 --converge=1e-4 --json -
   ihbm sweep quadratic --from 1.5 --to 2.6 --period 2 --harmonics 8 --plot p2.svg
   ihbm sweep duffing --from 0.2 --to 4 --set F=2 --set c=0.05 --break-symmetry --harmonics 6
+  ihbm sweep quarter-car --from 1 --to 100 --plot q.svg --backbone
 
 JSON: {model, harmonics, points, folds, jumps, segments, parameter, stats,
 bifurcations, convergence (only with --converge), period (only with --period 2),
@@ -342,8 +348,11 @@ Examples:
   ihbm backbone quarter-car --mode 2 --output y --to 0.05 --json -
 
 JSON: {model, harmonics, mode, points: [{omega, damping, stable, xi, amplitude,
-outputs: {X: {max_abs, mean, amp1}}}], output, to, linear: {omega, damping}, ended,
-stats}. damping is the modal damping ratio D = xi / (2 omega) (0 for a conservative
+outputs: {X: {max_abs, mean, amp1}}}], output, to, linear: {omega, damping}, events:
+[{kind: \"turn\" | \"internal-resonance\", omega, amplitude, ratio: \"k:1\" | null, mode,
+after}], ended, stats}. A backbone is followed through its turns and internal resonances
+(harmonic k of its frequency crossing another mode's linear frequency); events says
+where they are. damping is the modal damping ratio D = xi / (2 omega) (0 for a conservative
 model); stable is null (not checked). The CSV has one row per point:
 omega,damping,xi,amplitude,<out>_max_abs,<out>_mean,<out>_amp1,...";
 

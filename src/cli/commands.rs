@@ -64,7 +64,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, period, break_symmetry, curve: args } => {
+        Command::Sweep { name, from, to, period, break_symmetry, backbone, curve: args } => {
             distinct_outputs(&args)?;
             if !(1..=2).contains(&period) {
                 return Err(Failure::usage(format!(
@@ -84,7 +84,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 );
                 let (l1, l2) = (format!("{name} (period 1)"), format!("{name} (period 2)"));
                 let parent = Some((l1.as_str(), &both.period_one, Branch::PeriodTwo));
-                return write_curve(&both.period_two, &l2, &title, &args, parent, out);
+                return write_curve(&both.period_two, &l2, &title, &args, parent, &[], out);
             }
             if break_symmetry {
                 let both = model.sweep_break_symmetry(from, to, &settings);
@@ -96,14 +96,25 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 );
                 let (l1, l2) = (format!("{name} (symmetric)"), format!("{name} (asymmetric)"));
                 let parent = Some((l1.as_str(), &both.symmetric, Branch::Asymmetric));
-                return write_curve(&both.broken, &l2, &title, &args, parent, out);
+                return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
             }
             let mut watch = progress::CurveProgress::new(pb.clone(), &name);
             let curve = model.sweep(from, to, &settings, &mut watch);
             pb.finish_and_clear();
             let curve = curve.map_err(Failure::from_error)?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
-            write_curve(&curve, &name, &title, &args, None, out)
+            let (overlays, warnings) = if backbone {
+                backbone_overlays(model.as_ref(), &curve, (from, to))
+            } else {
+                (Vec::new(), Vec::new())
+            };
+            write_curve(&curve, &name, &title, &args, None, &overlays, out)?;
+            if args.json.as_deref() != Some("-") {
+                for warning in warnings {
+                    w(out, format_args!("warning: {warning}\n"))?;
+                }
+            }
+            Ok(())
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
             distinct_outputs(&args)?;
@@ -122,7 +133,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
-            write_curve(&curve, &name, &title, &args, None, out)
+            write_curve(&curve, &name, &title, &args, None, &[], out)
         }
         Command::Folds { name, param, from, to, omega_from, omega_to, boundary, curve: args } => {
             distinct_outputs(&args)?;
@@ -423,6 +434,61 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
     Ok(())
 }
 
+/// The backbones of the modes in the sweep's range as overlays of its figure: on
+/// each output's panel, the backbone continued in that output to the sweep's largest
+/// amplitude of it. A backbone that could not start, or stopped short, is drawn as
+/// far as it went (if at all), and said so in the warnings returned.
+fn backbone_overlays(
+    model: &dyn AnyModel,
+    curve: &Curve,
+    range: (f64, f64),
+) -> (Vec<report::Overlay>, Vec<String>) {
+    let mut warnings = Vec::new();
+    let tops: Vec<f64> = (0..curve.output_names.len())
+        .map(|i| {
+            curve
+                .points
+                .iter()
+                .filter_map(|p| p.outputs.get(i).map(|o| o.max_abs))
+                .filter(|v| v.is_finite())
+                .fold(0.0f64, f64::max)
+        })
+        .collect();
+    let mut overlays = Vec::new();
+    let found = model.sweep_backbones(range, &tops, curve.harmonics);
+    if found.is_empty() {
+        warnings
+            .push("no mode's linear natural frequency lies in the range: no backbone drawn".into());
+    }
+    for sb in found {
+        let name = curve.output_names.get(sb.output).cloned().unwrap_or_default();
+        match sb.backbone {
+            Ok(b) => {
+                if b.ended != BackboneEnd::Reached {
+                    warnings.push(format!(
+                        "the backbone of mode {} on {name} {} (drawn as far as it went)",
+                        sb.mode, b.ended
+                    ));
+                }
+                overlays.push(report::Overlay {
+                    label: format!("backbone, mode {}", sb.mode),
+                    output: name.clone(),
+                    points: b
+                        .points
+                        .iter()
+                        .filter_map(|p| p.outputs.get(sb.output).map(|o| (p.omega, o.max_abs)))
+                        .collect(),
+                    tag: format!("backbone mode {} {name}", sb.mode),
+                });
+            }
+            Err(e) => {
+                warnings.push(format!("no backbone of mode {} on {name}: {e}", sb.mode));
+            }
+        }
+    }
+    (overlays, warnings)
+}
+
 /// Write a traced curve: CSV, SVG, and the JSON or a human summary.
 fn write_curve(
     curve: &Curve,
@@ -430,6 +496,7 @@ fn write_curve(
     title: &str,
     files: &CurveArgs,
     parent: Option<(&str, &Curve, Branch)>,
+    overlays: &[report::Overlay],
     out: &mut dyn Write,
 ) -> Result<(), Failure> {
     let json = || {
@@ -469,7 +536,7 @@ fn write_curve(
                 .collect(),
             markers: vec![],
         };
-        let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
+        let svg = report::figure_svg_with(&fig, overlays).map_err(Failure::failed)?;
         report::write_file(path, &svg).map_err(Failure::failed)?;
     }
     if let Some(target) = files.json.as_deref() {

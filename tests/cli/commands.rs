@@ -835,3 +835,74 @@ fn cycle_families_write_points_and_the_hopf_point() {
         &["--to"],
     );
 }
+
+/// `sweep --plot --backbone` draws the Duffing oscillator's backbone over the sweep,
+/// continued to the sweep's largest amplitude: a dotted polyline with its legend
+/// entry, whose vertices are the points of `ihbm backbone --to A_max` (an affine
+/// image of them, to the SVG's 0.01-pixel rounding).
+#[test]
+fn sweep_plots_carry_the_backbone_of_the_modes_in_range() {
+    let svg = tmp("sweep-backbone.svg");
+    let o = ihbm(&[
+        "sweep",
+        "duffing",
+        "--from",
+        "0.5",
+        "--to",
+        "3",
+        "--harmonics",
+        "5",
+        "--json",
+        "-",
+        "--plot",
+        svg.to_str().unwrap(),
+        "--backbone",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let top = v["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["outputs"]["x"]["max_abs"].as_f64().unwrap())
+        .fold(0.0f64, f64::max);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("backbone, mode 1"), "no legend entry");
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let lines: Vec<Vec<(f64, f64)>> = doc
+        .descendants()
+        .filter(|n| n.attribute("data-overlay") == Some("backbone mode 1 x"))
+        .map(|n| {
+            n.attribute("points")
+                .unwrap()
+                .split_whitespace()
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect()
+        })
+        .collect();
+    let [line] = lines.as_slice() else { panic!("one backbone polyline: {}", lines.len()) };
+    let o = ihbm(&["backbone", "duffing", "--to", &top.to_string(), "--harmonics", "5", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let b: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let pts: Vec<(f64, f64)> = b["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["omega"].as_f64().unwrap(), p["outputs"]["x"]["max_abs"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(line.len(), pts.len());
+    assert!((pts.last().unwrap().1 - top).abs() < 1e-9 * top);
+    let (p0, p1, q0, q1) = (pts[0], pts[pts.len() - 1], line[0], line[line.len() - 1]);
+    let (ax, ay) = ((q1.0 - q0.0) / (p1.0 - p0.0), (q1.1 - q0.1) / (p1.1 - p0.1));
+    for (p, q) in pts.iter().zip(line) {
+        let (x, y) = (q0.0 + ax * (p.0 - p0.0), q0.1 + ay * (p.1 - p0.1));
+        assert!(
+            (x - q.0).abs() < 0.02 && (y - q.1).abs() < 0.02,
+            "{p:?} drawn at {q:?}, expected ({x}, {y})"
+        );
+    }
+    assert_rejected(&["sweep", "duffing", "--from", "0.5", "--to", "3", "--backbone"], &["--plot"]);
+}
