@@ -7,8 +7,17 @@
 //! output's `max |x(t)|` reaches the requested amplitude. Every forcing term is left
 //! out; damping, integer or fractional, stays in and is balanced by the artificial
 //! damping `-ξ M ẋ` ([`epmc`]), which gives the modal damping ratio `D = ξ / (2ω)`
-//! (exactly 0 for a conservative model). The book's chapter *Nonlinear modes* has
-//! the method and the checks against closed forms.
+//! (exactly 0 for a conservative model). A backbone is followed through the turns in
+//! amplitude and the internal resonances it meets (harmonic k of its frequency
+//! crossing another mode's linear frequency), which are reported
+//! ([`Backbone::events`]).
+//!
+//! Without damping to balance, the same system gives self-excited periodic motions:
+//! [`cycle`] finds one (where the artificial damping of a mode vanishes), and
+//! [`cycles`] continues it in a model parameter with every point's stability and the
+//! Hopf point where it is born from the equilibrium, located from the linearisation's
+//! eigenvalues. The book's chapter *Nonlinear modes* has the method and the checks
+//! against closed forms.
 //!
 //! ```
 //! use ihbm::backbone::{backbone, BackboneOptions};
