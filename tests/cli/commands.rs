@@ -906,3 +906,42 @@ fn sweep_plots_carry_the_backbone_of_the_modes_in_range() {
     }
     assert_rejected(&["sweep", "duffing", "--from", "0.5", "--to", "3", "--backbone"], &["--plot"]);
 }
+
+/// `backbone --json` reports the internal resonances met: the two-mass chain with its
+/// second mode moved up (k2 = 7, no quadratic spring, no fractional damper: the
+/// linear model is `K = [[k1 + kc, -kc], [-kc, k2 + kc]]`, `M = diag(m1, m2)`) has
+/// the third harmonic of its stiffening first mode cross the second mode's linear
+/// frequency at exactly a third of it.
+#[test]
+fn backbone_json_lists_the_internal_resonances_met() {
+    let o = ihbm(&[
+        "backbone",
+        "two-mass-chain",
+        "--to",
+        "1.5",
+        "--harmonics",
+        "9",
+        "--set",
+        "k2=7",
+        "--set",
+        "kq=0",
+        "--set",
+        "hc=0",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let events = v["events"].as_array().unwrap();
+    let [ev] = events.as_slice() else { panic!("one event: {events:?}") };
+    assert_eq!(keys(ev)[..5], ["kind", "omega", "amplitude", "ratio", "mode"]);
+    assert_eq!(
+        (ev["kind"].as_str(), ev["ratio"].as_str(), ev["mode"].as_u64()),
+        (Some("internal-resonance"), Some("3:1"), Some(2))
+    );
+    let (k1, kc, k2, m1, m2) = (1.0f64, 0.5, 7.0, 1.0, 0.5);
+    // det(K - λ M) = m1 m2 λ² - (m1 (k2 + kc) + m2 (k1 + kc)) λ + (k1 + kc)(k2 + kc) - kc²
+    let (a, b, c) = (m1 * m2, -(m1 * (k2 + kc) + m2 * (k1 + kc)), (k1 + kc) * (k2 + kc) - kc * kc);
+    let w2 = ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt();
+    let w = ev["omega"].as_f64().unwrap();
+    assert!((w - w2 / 3.0).abs() < 1e-9 * w2, "ω = {w} vs {}", w2 / 3.0);
+}

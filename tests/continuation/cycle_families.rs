@@ -162,3 +162,35 @@ fn bad_family_input_is_refused_with_the_reason() {
         cycles(&VanDerPol::default(), &FamilyOptions { to: 0.5, ..base }).unwrap_err().to_string();
     assert!(e.contains("range"), "{e}");
 }
+
+/// The family is observable point by point, and an observer may stop it: what was
+/// traced is kept, and it says it was stopped.
+#[test]
+fn an_observer_sees_every_point_and_may_stop_the_family() {
+    use ihbm::backbone::cycles_with;
+    use ihbm::continuation::Control;
+    let opts = FamilyOptions {
+        param: "mu".into(),
+        from: 1.0,
+        to: 0.1,
+        omega: 1.0,
+        harmonics: 7,
+        ..Default::default()
+    };
+    let mut seen = Vec::new();
+    let f = cycles_with(&VanDerPol::default(), &opts, &mut |f| {
+        seen.push(f.points.len());
+        if f.points.len() >= 4 {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
+    })
+    .unwrap();
+    assert_eq!(f.ended, FamilyEnd::Stopped);
+    assert_eq!(seen, [1, 2, 3, 4]);
+    assert_eq!(f.points.len(), 4);
+    // the equilibrium is unstable over the whole range covered: no Hopf point there
+    // (its eigenvalues μ/2 ± i√(1 - μ²/4) have Re λ > 0 for μ in [0.1, 1])
+    assert!(f.hopf.is_none(), "{:?}", f.hopf);
+}
