@@ -8,10 +8,16 @@
 mod backbones;
 #[path = "continuation/convergence.rs"]
 mod convergence;
+#[path = "continuation/cycle_families.rs"]
+mod cycle_families;
 #[path = "continuation/duffing.rs"]
 mod duffing;
 #[path = "continuation/fold_curves.rs"]
 mod fold_curves;
+#[path = "continuation/forced_peaks.rs"]
+mod forced_peaks;
+#[path = "continuation/internal_resonances.rs"]
+mod internal_resonances;
 #[path = "continuation/half_car.rs"]
 mod half_car;
 #[path = "continuation/period_two.rs"]

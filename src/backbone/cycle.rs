@@ -134,7 +134,7 @@ pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
 }
 
 /// Hill's method at the cycle, with the exponent nearest 0 (the phase) left out.
-fn autonomous_stability<M: Model>(
+pub(super) fn autonomous_stability<M: Model>(
     model: &M,
     harmonics: usize,
     coeffs: &[f64],

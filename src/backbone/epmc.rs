@@ -16,12 +16,25 @@
 //! leaves the free system; `D(ω)` is the derivative's spectral operator. `n + 2`
 //! equations in `n + 3` unknowns: one more row (arc length, or a fixed `u`) makes it
 //! square.
+//!
+//! The same system continues a family of limit cycles in a model parameter P
+//! ([`Free::Param`]): ξ is held at 0 and P takes its place among the unknowns, so the
+//! family stays regular down to the Hopf point, where q → 0.
 
 use crate::balance::Balance;
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::prelude::ReborrowMut;
+
+/// The unknown next to ω and `u = ln q`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Free {
+    /// The artificial damping ξ (over `so`): a nonlinear mode.
+    Xi,
+    /// Model parameter `index` (its value is `y * scale`), with ξ = 0: limit cycles.
+    Param { index: usize, scale: f64 },
+}
 
 pub(crate) struct Epmc<'m, M: Model> {
     pub bal: Balance<'m, M>,
@@ -37,6 +50,8 @@ pub(crate) struct Epmc<'m, M: Model> {
     pub so: f64,
     pub tol: f64,
     pub iterations: usize,
+    /// What the unknown `y[n + 1]` is.
+    pub free: Free,
     lu: DenseLu,
     a: Vec<f64>,
     r: Vec<f64>,
@@ -44,6 +59,8 @@ pub(crate) struct Epmc<'m, M: Model> {
     dr: Vec<f64>,
     dr0: Vec<f64>,
     md: Vec<f64>,
+    dp: Vec<f64>,
+    dp0: Vec<f64>,
     zero: Vec<f64>,
     rhs: Vec<f64>,
 }
@@ -64,6 +81,7 @@ impl<'m, M: Model> Epmc<'m, M> {
             so: 1.0,
             tol,
             iterations: 0,
+            free: Free::Xi,
             lu: DenseLu::new(n + 3),
             a: vec![0.0; n],
             r: vec![0.0; n],
@@ -71,6 +89,8 @@ impl<'m, M: Model> Epmc<'m, M> {
             dr: vec![0.0; n],
             dr0: vec![0.0; n],
             md: vec![0.0; n],
+            dp: vec![0.0; n],
+            dp0: vec![0.0; n],
             zero: vec![0.0; n],
             rhs: vec![0.0; n + 3],
         }
@@ -84,8 +104,20 @@ impl<'m, M: Model> Epmc<'m, M> {
         y[self.n] * self.so
     }
 
+    /// The artificial damping (0 for a family of limit cycles).
     pub fn xi(&self, y: &[f64]) -> f64 {
-        y[self.n + 1] * self.so
+        match self.free {
+            Free::Xi => y[self.n + 1] * self.so,
+            Free::Param { .. } => 0.0,
+        }
+    }
+
+    /// The parameter's value at `y` (NaN for a nonlinear mode).
+    pub fn param(&self, y: &[f64]) -> f64 {
+        match self.free {
+            Free::Xi => f64::NAN,
+            Free::Param { scale, .. } => y[self.n + 1] * scale,
+        }
     }
 
     pub fn log_amplitude(&self, y: &[f64]) -> f64 {
@@ -149,6 +181,17 @@ impl<'m, M: Model> Epmc<'m, M> {
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * q;
         }
+        if let Free::Param { index, .. } = self.free {
+            let v = self.param(y);
+            if !v.is_finite() {
+                return Err(format!("the parameter left the finite range ({v:e})"));
+            }
+            self.bal.set_param(index, v);
+            // a coefficient that is not finite here ends the curve, naming it
+            self.bal.check_coefficients(omega).map_err(|e| e.to_string())?;
+            self.bal.d_param(&self.a, omega, index, &mut self.dp);
+            self.bal.d_param(&self.zero, omega, index, &mut self.dp0);
+        }
         let mut k = self.lu.matrix_mut();
         self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
         self.bal.residual(&self.zero, omega, &mut self.r0);
@@ -178,7 +221,10 @@ impl<'m, M: Model> Epmc<'m, M> {
             // ∂/∂u of e^{-u} R_E(e^u â) = (J_E a - R_E) / q
             let jea: f64 = (0..n).map(|j| k[(i, j)] * a[j]).sum();
             k[(i, n)] = self.so * (self.dr[i] - self.dr0[i] - xi * md[i] / omega) * inv;
-            k[(i, n + 1)] = -self.so * md[i] * inv;
+            k[(i, n + 1)] = match self.free {
+                Free::Xi => -self.so * md[i] * inv,
+                Free::Param { scale, .. } => scale * (self.dp[i] - self.dp0[i]) * inv,
+            };
             k[(i, n + 2)] = (jea - re) * inv;
             self.rhs[i] = re * inv;
         }

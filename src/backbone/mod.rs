@@ -7,8 +7,17 @@
 //! output's `max |x(t)|` reaches the requested amplitude. Every forcing term is left
 //! out; damping, integer or fractional, stays in and is balanced by the artificial
 //! damping `-ξ M ẋ` ([`epmc`]), which gives the modal damping ratio `D = ξ / (2ω)`
-//! (exactly 0 for a conservative model). The book's chapter *Nonlinear modes* has
-//! the method and the checks against closed forms.
+//! (exactly 0 for a conservative model). A backbone is followed through the turns in
+//! amplitude and the internal resonances it meets (harmonic k of its frequency
+//! crossing another mode's linear frequency), which are reported
+//! ([`Backbone::events`]).
+//!
+//! Without damping to balance, the same system gives self-excited periodic motions:
+//! [`cycle`] finds one (where the artificial damping of a mode vanishes), and
+//! [`cycles`] continues it in a model parameter with every point's stability and the
+//! Hopf point where it is born from the equilibrium, located from the linearisation's
+//! eigenvalues. The book's chapter *Nonlinear modes* has the method and the checks
+//! against closed forms.
 //!
 //! ```
 //! use ihbm::backbone::{backbone, BackboneOptions};
@@ -26,6 +35,8 @@
 
 mod cycle;
 mod epmc;
+mod family;
+mod hopf;
 mod linear;
 
 use crate::balance::Balance;
@@ -37,6 +48,7 @@ use crate::outputs::OutputEval;
 use crate::results::PointOutput;
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
+pub use family::{cycles, cycles_with, CycleFamily, CyclePoint, FamilyEnd, FamilyOptions, Hopf};
 pub(crate) use linear::{linear_mode, Linearisation};
 
 /// Where a trace stops.
@@ -112,6 +124,49 @@ pub struct ModePoint {
     pub outputs: Vec<PointOutput>,
 }
 
+/// What happens at a [`ModeEvent`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    /// The continued output's amplitude has an extremum along the branch: the
+    /// backbone turns back in amplitude (and is followed on).
+    Turn,
+    /// Harmonic `ratio` of the mode's frequency crosses the linear natural frequency
+    /// of mode `mode`: a `ratio:1` internal resonance (only for harmonics present in
+    /// the motion).
+    InternalResonance {
+        /// The other mode (1-based).
+        mode: usize,
+        /// The harmonic k of `k ω = ω_mode`.
+        ratio: usize,
+    },
+}
+
+impl EventKind {
+    /// `"turn"` or `"internal-resonance"` (the JSON's `kind`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventKind::Turn => "turn",
+            EventKind::InternalResonance { .. } => "internal-resonance",
+        }
+    }
+}
+
+/// A turn or an internal resonance met by a backbone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModeEvent {
+    /// What happens.
+    pub kind: EventKind,
+    /// Where: the mode's frequency (for an internal resonance exactly `ω_j / k`) and
+    /// the continued output's `max |x(t)|` there, interpolated between the points
+    /// around it (a turn: the vertex of the parabola through the three points at it;
+    /// an internal resonance: linear in ω between the two points around it).
+    pub omega: f64,
+    /// See `omega`.
+    pub amplitude: f64,
+    /// The index of the point after which it happens.
+    pub after: usize,
+}
+
 /// Why a backbone ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BackboneEnd {
@@ -153,6 +208,8 @@ pub struct Backbone {
     pub linear: (f64, f64),
     /// Points, by increasing arc length from the start.
     pub points: Vec<ModePoint>,
+    /// The turns and internal resonances met on the way, in order.
+    pub events: Vec<ModeEvent>,
     /// Why it ended.
     pub ended: BackboneEnd,
     /// Newton iterations and accepted steps.
@@ -187,6 +244,38 @@ pub fn backbone_with<M: Model>(
     trace(model, opts, Goal::Amplitude(opts.to), opts.start * opts.to, observer)
 }
 
+/// The EPMC system of mode `mode` (1-based) of `model`, scaled at rest: its linear
+/// mode and the mass matrix (row-major). The phase fixes the sine of harmonic 1 of
+/// the mode's largest DOF, so two systems of the same model and mode share it.
+fn system<M: Model>(
+    model: &M,
+    mode: usize,
+    harmonics: usize,
+    tol: f64,
+) -> Result<(Epmc<'_, M>, linear::LinearMode, Vec<f64>)> {
+    let lm = linear_mode(model, mode)?;
+    let bal = Balance::new(model, harmonics)?;
+    let n = bal.len();
+    let len = 2 * harmonics + 1;
+    let ndof = model.dofs().len();
+    let mass = Linearisation::at_rest(model, lm.omega).mass();
+    // the reference DOF: the mode's largest entry (its sine of harmonic 1 is fixed)
+    let dref =
+        (0..ndof).max_by(|&i, &j| lm.shape[i].abs().total_cmp(&lm.shape[j].abs())).unwrap_or(0);
+    let mut sys = Epmc::new(bal, mass.clone(), dref * len + harmonics + 1, tol);
+    sys.so = lm.omega;
+    let mut j0 = faer::Mat::<f64>::zeros(n, n);
+    let mut r = vec![0.0; n];
+    sys.bal.jacobian(&vec![0.0; n], lm.omega, &mut r, j0.as_mut());
+    sys.sr = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .fold(0.0f64, |m, (i, j)| m.max(j0[(i, j)].abs()));
+    if !(sys.sr > 0.0 && sys.sr.is_finite()) {
+        sys.sr = 1.0;
+    }
+    Ok((sys, lm, mass))
+}
+
 /// Continue mode `opts.mode` from the output amplitude `start` until `goal`.
 fn trace<M: Model>(
     model: &M,
@@ -204,27 +293,11 @@ fn trace<M: Model>(
             expected: format!("one of the model's {} outputs", outputs.len()),
         });
     }
-    let lm = linear_mode(model, opts.mode)?;
-    let bal = Balance::new(model, opts.harmonics)?;
-    let n = bal.len();
+    let (mut sys, lm, mass) = system(model, opts.mode, opts.harmonics, opts.tol)?;
+    let n = sys.n;
     let nh = opts.harmonics;
     let len = 2 * nh + 1;
     let ndof = model.dofs().len();
-    let mass = Linearisation::at_rest(model, lm.omega).mass();
-    // the reference DOF: the mode's largest entry (its sine of harmonic 1 is fixed)
-    let dref =
-        (0..ndof).max_by(|&i, &j| lm.shape[i].abs().total_cmp(&lm.shape[j].abs())).unwrap_or(0);
-    let mut sys = Epmc::new(bal, mass.clone(), dref * len + nh + 1, opts.tol);
-    sys.so = lm.omega;
-    let mut j0 = faer::Mat::<f64>::zeros(n, n);
-    let mut r = vec![0.0; n];
-    sys.bal.jacobian(&vec![0.0; n], lm.omega, &mut r, j0.as_mut());
-    sys.sr = (0..n)
-        .flat_map(|i| (0..n).map(move |j| (i, j)))
-        .fold(0.0f64, |m, (i, j)| m.max(j0[(i, j)].abs()));
-    if !(sys.sr > 0.0 && sys.sr.is_finite()) {
-        sys.sr = 1.0;
-    }
     // the start: the linear mode, mass-normalised, at a small amplitude
     let mnorm: f64 = (0..ndof)
         .flat_map(|i| (0..ndof).map(move |j| (i, j)))
@@ -261,6 +334,7 @@ fn trace<M: Model>(
         to: opts.to,
         linear: (f64::NAN, f64::NAN),
         points: Vec::new(),
+        events: Vec::new(),
         ended: BackboneEnd::Stopped,
         iterations: 0,
         steps: 0,
@@ -279,7 +353,11 @@ fn trace<M: Model>(
     if t[n + 2] < 0.0 {
         t.iter_mut().for_each(|v| *v = -*v);
     }
-    let mut tracer = Tracer { sys, eval, h: opts.initial_step, opts: opts.clone(), goal };
+    let others = (1..=ndof)
+        .filter(|&k| k != opts.mode)
+        .filter_map(|k| linear_mode(model, k).ok().map(|m| (k, m.omega)))
+        .collect();
+    let mut tracer = Tracer { sys, eval, h: opts.initial_step, opts: opts.clone(), goal, others };
     let start = tracer.point(&y);
     res.linear = (start.omega, start.damping);
     res.points.push(start);
@@ -308,6 +386,8 @@ struct Tracer<'m, M: Model> {
     h: f64,
     opts: BackboneOptions,
     goal: Goal,
+    /// The other modes (1-based) and their linear frequencies: internal resonances.
+    others: Vec<(usize, f64)>,
 }
 
 impl<M: Model> Tracer<'_, M> {
@@ -348,6 +428,93 @@ impl<M: Model> Tracer<'_, M> {
                 ),
             }));
         }
+        let (z, tn, it) = match self.advance(y, t) {
+            Ok(x) => x,
+            Err(why) => return Some(BackboneEnd::Stalled(why)),
+        };
+        let p = self.point(&z);
+        match self.goal {
+            Goal::Amplitude(to) if self.amplitude(&p) >= to => {
+                return Some(self.land(y, &z, res));
+            }
+            Goal::ZeroDamping(_) if self.sys.xi(y) * p.xi <= 0.0 => {
+                return Some(self.land_zero_damping(y, &z, res));
+            }
+            Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
+                return Some(BackboneEnd::Stalled(format!(
+                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
+                    p.xi,
+                    res.output_names[self.opts.output],
+                    self.amplitude(&p)
+                )));
+            }
+            _ => {}
+        }
+        self.push(res, p);
+        *y = z;
+        *t = tn;
+        self.adapt(it);
+        None
+    }
+
+    /// Append `p` to `res`, with the events between the last point and it.
+    fn push(&self, res: &mut Backbone, p: ModePoint) {
+        let k = res.points.len();
+        if let (Some(a), Some(b)) = (k.checked_sub(2).map(|i| &res.points[i]), res.points.last()) {
+            let (aa, ab, ap) = (self.amplitude(a), self.amplitude(b), self.amplitude(&p));
+            if (ab - aa) * (ap - ab) < 0.0 {
+                // the vertex of the parabola through the three points (in the index)
+                let t = 0.5 * (aa - ap) / (aa - 2.0 * ab + ap);
+                let quad = |fm: f64, f0: f64, fp: f64| {
+                    f0 + 0.5 * (fp - fm) * t + 0.5 * (fp - 2.0 * f0 + fm) * t * t
+                };
+                res.events.push(ModeEvent {
+                    kind: EventKind::Turn,
+                    omega: quad(a.omega, b.omega, p.omega),
+                    amplitude: quad(aa, ab, ap),
+                    after: k - 1,
+                });
+            }
+        }
+        if let Some(b) = res.points.last() {
+            let (ab, ap) = (self.amplitude(b), self.amplitude(&p));
+            for &(mode, wj) in &self.others {
+                for h in 1..=self.opts.harmonics {
+                    let (sb, sp) = (h as f64 * b.omega - wj, h as f64 * p.omega - wj);
+                    let crosses = (sb < 0.0 && sp >= 0.0) || (sb > 0.0 && sp <= 0.0);
+                    if !crosses || !self.harmonic_present(&p.coeffs, h) {
+                        continue;
+                    }
+                    let omega = wj / h as f64;
+                    let f = (omega - b.omega) / (p.omega - b.omega);
+                    res.events.push(ModeEvent {
+                        kind: EventKind::InternalResonance { mode, ratio: h },
+                        omega,
+                        amplitude: ab + f * (ap - ab),
+                        after: k - 1,
+                    });
+                }
+            }
+        }
+        res.points.push(p);
+    }
+
+    /// Whether harmonic `h` is in the motion (any DOF's above 1e-9 of the largest
+    /// first harmonic): a symmetric model's even harmonics are not, and meet nothing.
+    fn harmonic_present(&self, coeffs: &[f64], h: usize) -> bool {
+        let nh = self.opts.harmonics;
+        let len = 2 * nh + 1;
+        let size =
+            |k: usize| coeffs.chunks(len).map(|c| c[k].hypot(c[nh + k])).fold(0.0f64, f64::max);
+        size(h) > 1e-9 * size(1)
+    }
+
+    /// One pseudo-arclength step from `y` along `t`: the corrected point, its tangent
+    /// (oriented along `t`) and the Newton iterations; the step is halved on a failure
+    /// or a turn of the tangent by more than 0.3 rad, and the corrector's reason is
+    /// returned below the smallest step. Nothing is recorded: the caller accepts the
+    /// point (and then calls [`Tracer::adapt`]) or not.
+    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<(Vec<f64>, Vec<f64>, usize), String> {
         loop {
             let h = self.h;
             let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
@@ -357,7 +524,7 @@ impl<M: Model> Tracer<'_, M> {
                 Err(why) => {
                     self.h *= 0.5;
                     if self.h < self.opts.min_step {
-                        return Some(BackboneEnd::Stalled(why));
+                        return Err(why);
                     }
                     continue;
                 }
@@ -371,36 +538,19 @@ impl<M: Model> Tracer<'_, M> {
                 self.h *= 0.5;
                 continue;
             }
-            let p = self.point(&z);
-            match self.goal {
-                Goal::Amplitude(to) if self.amplitude(&p) >= to => {
-                    return Some(self.land(y, &z, res));
-                }
-                Goal::ZeroDamping(_) if self.sys.xi(y) * p.xi <= 0.0 => {
-                    return Some(self.land_zero_damping(y, &z, res));
-                }
-                Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
-                    return Some(BackboneEnd::Stalled(format!(
-                        "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
-                        p.xi,
-                        res.output_names[self.opts.output],
-                        self.amplitude(&p)
-                    )));
-                }
-                _ => {}
-            }
-            res.points.push(p);
-            *y = z;
-            *t = tn;
-            let factor = match it {
-                0..=2 => 1.6,
-                3 => 1.25,
-                4 => 1.0,
-                _ => 0.6,
-            };
-            self.h = (h * factor).clamp(self.opts.min_step, self.opts.max_step);
-            return None;
+            return Ok((z, tn, it));
         }
+    }
+
+    /// The next step after a point accepted in `it` Newton iterations.
+    fn adapt(&mut self, it: usize) {
+        let factor = match it {
+            0..=2 => 1.6,
+            3 => 1.25,
+            4 => 1.0,
+            _ => 0.6,
+        };
+        self.h = (self.h * factor).clamp(self.opts.min_step, self.opts.max_step);
     }
 
     /// The point between `y` and `z` where ξ = 0, by Newton on the row `ξ = 0` from
@@ -415,7 +565,7 @@ impl<M: Model> Tracer<'_, M> {
         match self.sys.correct(&mut w, &e, 0.0, self.opts.max_iter.max(LOCATE_ITER)) {
             Ok(_) => {
                 let p = self.point(&w);
-                res.points.push(p);
+                self.push(res, p);
                 BackboneEnd::Reached
             }
             Err(why) => BackboneEnd::Stalled(format!("could not locate ξ = 0: {why}")),
@@ -455,7 +605,7 @@ impl<M: Model> Tracer<'_, M> {
                 break;
             }
         }
-        res.points.push(best);
+        self.push(res, best);
         BackboneEnd::Reached
     }
 }

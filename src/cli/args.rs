@@ -63,6 +63,11 @@ pub enum Command {
         /// switched onto at the first symmetry-breaking branch point of the curve.
         #[arg(long, conflicts_with = "period")]
         break_symmetry: bool,
+        /// Draw on the `--plot` the backbone of every mode whose linear natural
+        /// frequency is in the range, on each output's panel up to the sweep's largest
+        /// amplitude of it (dotted, one legend entry per mode).
+        #[arg(long, requires = "plot", conflicts_with_all = ["period", "break_symmetry"])]
+        backbone: bool,
         /// Harmonics, overrides, output files and continuation settings.
         #[command(flatten)]
         curve: CurveArgs,
@@ -168,9 +173,25 @@ pub enum Command {
         /// Override a parameter, e.g. `--set mu=0.5` (repeatable).
         #[arg(long = "set", value_name = "P=V")]
         set: Vec<String>,
+        /// Continue the cycle in this parameter (with `--from` and `--to`), and locate
+        /// the Hopf point where it is born from the equilibrium.
+        #[arg(long, value_name = "P", requires_all = ["from", "to"])]
+        param: Option<String>,
+        /// The parameter's first value (the family starts at the cycle there).
+        #[arg(long, value_name = "V0", allow_negative_numbers = true, requires = "param")]
+        from: Option<f64>,
+        /// The parameter's last value.
+        #[arg(long, value_name = "V1", allow_negative_numbers = true, requires = "param")]
+        to: Option<f64>,
         /// Write JSON to FILE (`-` or no value: standard output).
         #[arg(long, value_name = "FILE|-", num_args = 0..=1, default_missing_value = "-")]
         json: Option<String>,
+        /// Write the family's points as CSV (with `--param`).
+        #[arg(long, value_name = "FILE", requires = "param")]
+        csv: Option<PathBuf>,
+        /// Draw the family's amplitudes against the parameter (SVG, with `--param`).
+        #[arg(long, value_name = "FILE.svg", requires = "param")]
+        plot: Option<PathBuf>,
     },
     /// Integrate in time from rest (Caputo derivative from t = 0); steady statistics of
     /// the last 10 forcing periods.
@@ -305,6 +326,7 @@ Examples:
   ihbm sweep quarter-car --from 1 --to 80 --converge=1e-4 --json -
   ihbm sweep quadratic --from 1.5 --to 2.6 --period 2 --harmonics 8 --plot p2.svg
   ihbm sweep duffing --from 0.2 --to 4 --set F=2 --set c=0.05 --break-symmetry --harmonics 6
+  ihbm sweep quarter-car --from 1 --to 100 --plot q.svg --backbone
 
 JSON: {model, harmonics, points, folds, jumps, segments, parameter, stats,
 bifurcations, convergence (only with --converge), period (only with --period 2),
@@ -327,8 +349,11 @@ Examples:
   ihbm backbone quarter-car --mode 2 --output y --to 0.05 --json -
 
 JSON: {model, harmonics, mode, points: [{omega, damping, stable, xi, amplitude,
-outputs: {X: {max_abs, mean, amp1}}}], output, to, linear: {omega, damping}, ended,
-stats}. damping is the modal damping ratio D = xi / (2 omega) (0 for a conservative
+outputs: {X: {max_abs, mean, amp1}}}], output, to, linear: {omega, damping}, events:
+[{kind: \"turn\" | \"internal-resonance\", omega, amplitude, ratio: \"k:1\" | null, mode,
+after}], ended, stats}. A backbone is followed through its turns and internal resonances
+(harmonic k of its frequency crossing another mode's linear frequency); events says
+where they are. damping is the modal damping ratio D = xi / (2 omega) (0 for a conservative
 model); stable is null (not checked). The CSV has one row per point:
 omega,damping,xi,amplitude,<out>_max_abs,<out>_mean,<out>_amp1,...";
 
@@ -337,10 +362,20 @@ Examples:
   ihbm cycle van-der-pol --omega 1 --harmonics 25 --json
   ihbm cycle van-der-pol --omega 1 --set mu=2 --harmonics 40
 
+  ihbm cycle van-der-pol --omega 1 --param mu --from 1 --to -0.5 --json f.json --plot f.svg
+
 JSON: {model, harmonics, converged, omega, period, stable, outputs: {X: {max_abs, mean,
 amp1, cos, sin}}, mode}. The cycle is found by following the linearised mode nearest
 the guess from the equilibrium until its artificial damping vanishes; stable leaves out
-the zero exponent every autonomous cycle has (a shift in time).";
+the zero exponent every autonomous cycle has (a shift in time).
+
+With --param P --from V0 --to V1 the cycle at P = V0 is continued to V1: JSON {model,
+harmonics, parameter, mode, points: [{value, omega, period, stable, outputs: {X:
+{max_abs, mean, amp1}}}], hopf: {value, omega} or null, ended, range, stats}. ended is
+\"reached the end of the range\", \"collapsed to the equilibrium\" (the cycle shrank
+to nothing: the Hopf point is near) or \"stalled: ...\"; hopf is where the
+equilibrium's pair of eigenvalues of the cycle's mode crosses the imaginary axis in the
+range covered. The CSV has one row per point: P,omega,period,stable,<out>_max_abs,...";
 
 const SWEEP_PARAM_AFTER_HELP: &str = "\
 Examples:

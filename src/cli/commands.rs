@@ -2,7 +2,7 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
-use crate::backbone::{Backbone, BackboneEnd};
+use crate::backbone::{Backbone, BackboneEnd, CycleFamily, FamilyEnd, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
 use crate::engine::progress;
@@ -64,7 +64,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )))
             }
         }
-        Command::Sweep { name, from, to, period, break_symmetry, curve: args } => {
+        Command::Sweep { name, from, to, period, break_symmetry, backbone, curve: args } => {
             distinct_outputs(&args)?;
             if !(1..=2).contains(&period) {
                 return Err(Failure::usage(format!(
@@ -84,7 +84,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 );
                 let (l1, l2) = (format!("{name} (period 1)"), format!("{name} (period 2)"));
                 let parent = Some((l1.as_str(), &both.period_one, Branch::PeriodTwo));
-                return write_curve(&both.period_two, &l2, &title, &args, parent, out);
+                return write_curve(&both.period_two, &l2, &title, &args, parent, &[], out);
             }
             if break_symmetry {
                 let both = model.sweep_break_symmetry(from, to, &settings);
@@ -96,14 +96,25 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 );
                 let (l1, l2) = (format!("{name} (symmetric)"), format!("{name} (asymmetric)"));
                 let parent = Some((l1.as_str(), &both.symmetric, Branch::Asymmetric));
-                return write_curve(&both.broken, &l2, &title, &args, parent, out);
+                return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
             }
             let mut watch = progress::CurveProgress::new(pb.clone(), &name);
             let curve = model.sweep(from, to, &settings, &mut watch);
             pb.finish_and_clear();
             let curve = curve.map_err(Failure::from_error)?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
-            write_curve(&curve, &name, &title, &args, None, out)
+            let (overlays, warnings) = if backbone {
+                backbone_overlays(model.as_ref(), &curve, (from, to))
+            } else {
+                (Vec::new(), Vec::new())
+            };
+            write_curve(&curve, &name, &title, &args, None, &overlays, out)?;
+            if args.json.as_deref() != Some("-") {
+                for warning in warnings {
+                    w(out, format_args!("warning: {warning}\n"))?;
+                }
+            }
+            Ok(())
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
             distinct_outputs(&args)?;
@@ -122,7 +133,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
-            write_curve(&curve, &name, &title, &args, None, out)
+            write_curve(&curve, &name, &title, &args, None, &[], out)
         }
         Command::Folds { name, param, from, to, omega_from, omega_to, boundary, curve: args } => {
             distinct_outputs(&args)?;
@@ -150,8 +161,19 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             pb.finish_and_clear();
             write_backbone(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
         }
-        Command::Cycle { name, omega, harmonics, set, json } => {
+        Command::Cycle { name, omega, harmonics, set, param, from, to, json, csv, plot } => {
             let model = configured(reg, &name, &set)?;
+            if let (Some(param), Some(from), Some(to)) = (param, from, to) {
+                distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
+                let pb = progress::spinner(&format!(
+                    "limit cycles of {name} near ω = {omega} for {param} from {from} to {to}"
+                ));
+                let opts =
+                    FamilyOptions { param, from, to, omega, harmonics, ..Default::default() };
+                let res = model.cycles(&opts).map_err(Failure::from_error);
+                pb.finish_and_clear();
+                return write_cycles(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out);
+            }
             let pb = progress::spinner(&format!("limit cycle of {name} near ω = {omega}"));
             let res = model.cycle(omega, harmonics).map_err(Failure::from_error);
             pb.finish_and_clear();
@@ -270,6 +292,21 @@ fn write_backbone(
             b.model, b.mode, b.harmonics, b.points.len(), b.ended, first.omega, first.damping,
             last.omega, last.damping, last.outputs[b.output].max_abs,
         ))?;
+        for e in &b.events {
+            let what = match e.kind {
+                crate::backbone::EventKind::Turn => "turn in amplitude".to_string(),
+                crate::backbone::EventKind::InternalResonance { mode, ratio } => {
+                    format!("{ratio}:1 internal resonance with mode {mode}")
+                }
+            };
+            w(
+                out,
+                format_args!(
+                    "  {what} at ω = {:.6} rad/s, max |{name}| = {:.6e}\n",
+                    e.omega, e.amplitude
+                ),
+            )?;
+        }
     }
     match &b.ended {
         BackboneEnd::Reached => Ok(()),
@@ -278,6 +315,59 @@ fn write_backbone(
             b.to,
             b.points.len()
         ))),
+    }
+}
+
+/// Write a family of limit cycles: CSV, SVG, and the JSON or a human summary; a
+/// family that stalled is written, then reported as a failure (one that collapsed to
+/// the equilibrium ended where cycles end: at the Hopf point).
+fn write_cycles(
+    f: &CycleFamily,
+    csv: Option<&Path>,
+    json: Option<&str>,
+    plot: Option<&Path>,
+    out: &mut dyn Write,
+) -> Result<(), Failure> {
+    if let Some(path) = csv {
+        report::write_file(path, &report::cycles_csv(f)).map_err(Failure::failed)?;
+    }
+    if let Some(path) = plot {
+        let title = format!(
+            "{}: limit cycles against {} (mode {}), N = {}",
+            f.model, f.parameter, f.mode, f.harmonics
+        );
+        let svg = report::cycles_svg(f, &title).map_err(Failure::failed)?;
+        report::write_file(path, &svg).map_err(Failure::failed)?;
+    }
+    if let Some(target) = json {
+        emit_json(&report::cycles_json(f), target, out)?;
+    } else if let (Some(first), Some(last)) = (f.points.first(), f.points.last()) {
+        let x = f.output_names.first().map_or("x", |s| s.as_str());
+        w(out, format_args!(
+            "{}: limit cycles in {} (mode {}), N = {}: {} points, {}\n  first: {} = {:.6}, ω = {:.6} rad/s, max |{x}| = {:.6e}\n  last:  {} = {:.6}, ω = {:.6} rad/s, max |{x}| = {:.6e}\n",
+            f.model, f.parameter, f.mode, f.harmonics, f.points.len(), f.ended,
+            f.parameter, first.value, first.omega, first.outputs.first().map_or(f64::NAN, |o| o.max_abs),
+            f.parameter, last.value, last.omega, last.outputs.first().map_or(f64::NAN, |o| o.max_abs),
+        ))?;
+        match f.hopf {
+            Some(h) => w(
+                out,
+                format_args!(
+                    "  Hopf point: {} = {:.10}, ω = {:.10} rad/s\n",
+                    f.parameter, h.value, h.omega
+                ),
+            )?,
+            None => w(out, format_args!("  no Hopf point in the range covered\n"))?,
+        }
+    }
+    match &f.ended {
+        FamilyEnd::Stalled(why) => Err(Failure::failed(format!(
+            "the limit cycles did not reach {} = {} ({why}); the {} points traced are written",
+            f.parameter,
+            f.range.1,
+            f.points.len()
+        ))),
+        _ => Ok(()),
     }
 }
 
@@ -344,6 +434,61 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
     Ok(())
 }
 
+/// The backbones of the modes in the sweep's range as overlays of its figure: on
+/// each output's panel, the backbone continued in that output to the sweep's largest
+/// amplitude of it. A backbone that could not start, or stopped short, is drawn as
+/// far as it went (if at all), and said so in the warnings returned.
+fn backbone_overlays(
+    model: &dyn AnyModel,
+    curve: &Curve,
+    range: (f64, f64),
+) -> (Vec<report::Overlay>, Vec<String>) {
+    let mut warnings = Vec::new();
+    let tops: Vec<f64> = (0..curve.output_names.len())
+        .map(|i| {
+            curve
+                .points
+                .iter()
+                .filter_map(|p| p.outputs.get(i).map(|o| o.max_abs))
+                .filter(|v| v.is_finite())
+                .fold(0.0f64, f64::max)
+        })
+        .collect();
+    let mut overlays = Vec::new();
+    let found = model.sweep_backbones(range, &tops, curve.harmonics);
+    if found.is_empty() {
+        warnings
+            .push("no mode's linear natural frequency lies in the range: no backbone drawn".into());
+    }
+    for sb in found {
+        let name = curve.output_names.get(sb.output).cloned().unwrap_or_default();
+        match sb.backbone {
+            Ok(b) => {
+                if b.ended != BackboneEnd::Reached {
+                    warnings.push(format!(
+                        "the backbone of mode {} on {name} {} (drawn as far as it went)",
+                        sb.mode, b.ended
+                    ));
+                }
+                overlays.push(report::Overlay {
+                    label: format!("backbone, mode {}", sb.mode),
+                    output: name.clone(),
+                    points: b
+                        .points
+                        .iter()
+                        .filter_map(|p| p.outputs.get(sb.output).map(|o| (p.omega, o.max_abs)))
+                        .collect(),
+                    tag: format!("backbone mode {} {name}", sb.mode),
+                });
+            }
+            Err(e) => {
+                warnings.push(format!("no backbone of mode {} on {name}: {e}", sb.mode));
+            }
+        }
+    }
+    (overlays, warnings)
+}
+
 /// Write a traced curve: CSV, SVG, and the JSON or a human summary.
 fn write_curve(
     curve: &Curve,
@@ -351,6 +496,7 @@ fn write_curve(
     title: &str,
     files: &CurveArgs,
     parent: Option<(&str, &Curve, Branch)>,
+    overlays: &[report::Overlay],
     out: &mut dyn Write,
 ) -> Result<(), Failure> {
     let json = || {
@@ -390,7 +536,7 @@ fn write_curve(
                 .collect(),
             markers: vec![],
         };
-        let svg = report::figure_svg(&fig).map_err(Failure::failed)?;
+        let svg = report::figure_svg_with(&fig, overlays).map_err(Failure::failed)?;
         report::write_file(path, &svg).map_err(Failure::failed)?;
     }
     if let Some(target) = files.json.as_deref() {

@@ -281,6 +281,51 @@ pub fn backbone<M: Model>(name: &str, model: &M, s: &BackboneSettings) -> Result
     Ok(res)
 }
 
+/// A backbone drawn over a sweep: of which mode, continued in which output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepBackbone {
+    /// The mode (1-based).
+    pub mode: usize,
+    /// The output (index) continued to the sweep's largest amplitude of it.
+    pub output: usize,
+    /// The backbone (which may have ended before that amplitude: it says why), or why
+    /// it could not start.
+    pub backbone: std::result::Result<Backbone, String>,
+}
+
+/// The backbones that belong on a sweep's figure: for every mode whose linear
+/// natural frequency lies in `[from, to]` and every output, the backbone continued in
+/// that output up to `tops[output]` (the sweep's largest `max |x|` of it).
+pub fn sweep_backbones<M: Model>(
+    name: &str,
+    model: &M,
+    (from, to): (f64, f64),
+    tops: &[f64],
+    harmonics: usize,
+) -> Vec<SweepBackbone> {
+    let mut out = Vec::new();
+    for mode in 1..=model.dofs().len() {
+        let Ok(lm) = crate::backbone::linear_mode(model, mode) else { continue };
+        if !(lm.omega >= from.min(to) && lm.omega <= from.max(to)) {
+            continue;
+        }
+        for (output, &top) in tops.iter().enumerate() {
+            if !(top > 0.0 && top.is_finite()) {
+                continue;
+            }
+            let opts = BackboneOptions { mode, output, to: top, harmonics, ..Default::default() };
+            let backbone = crate::backbone::backbone(model, &opts)
+                .map(|mut b| {
+                    b.model = name.to_string();
+                    b
+                })
+                .map_err(|e| e.to_string());
+            out.push(SweepBackbone { mode, output, backbone });
+        }
+    }
+    out
+}
+
 /// Integrate from rest and report the steady statistics of every output.
 pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) -> Result<SimRecord> {
     check_omega("omega", omega)?;

@@ -6,9 +6,9 @@
 
 use super::{
     self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
-    SweepSettings,
+    SweepBackbone, SweepSettings,
 };
-use crate::backbone::{Backbone, Cycle};
+use crate::backbone::{Backbone, Cycle, CycleFamily, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
@@ -62,8 +62,18 @@ pub trait AnyModel: Send + Sync {
     ) -> Result<FoldCurves>;
     /// The backbone (nonlinear mode) of one mode.
     fn backbone(&self, s: &BackboneSettings) -> Result<Backbone>;
+    /// The backbones of the modes in `[range.0, range.1]`, each output's continued to
+    /// `tops[output]` ([`engine::sweep_backbones`]).
+    fn sweep_backbones(
+        &self,
+        range: (f64, f64),
+        tops: &[f64],
+        harmonics: usize,
+    ) -> Vec<SweepBackbone>;
     /// The limit cycle near a frequency guess.
     fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle>;
+    /// The limit cycle continued in a parameter, with its Hopf point.
+    fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily>;
     /// Integrate in time.
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
     /// Harmonic balance against time integration at one frequency.
@@ -175,6 +185,19 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
         let mut c = crate::backbone::cycle(&self.model, &opts).map_err(|e| self.named(e))?;
         c.model = self.name.clone();
         Ok(c)
+    }
+    fn sweep_backbones(
+        &self,
+        range: (f64, f64),
+        tops: &[f64],
+        harmonics: usize,
+    ) -> Vec<SweepBackbone> {
+        engine::sweep_backbones(&self.name, &self.model, range, tops, harmonics)
+    }
+    fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily> {
+        let mut f = crate::backbone::cycles(&self.model, opts).map_err(|e| self.named(e))?;
+        f.model = self.name.clone();
+        Ok(f)
     }
     fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)

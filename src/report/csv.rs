@@ -1,7 +1,7 @@
 //! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...` (for a
 //! parameter sweep the first column is the parameter, named as in the model).
 
-use crate::backbone::Backbone;
+use crate::backbone::{Backbone, CycleFamily};
 use crate::bifurcation::FoldCurves;
 use crate::results::Curve;
 use std::fmt::Write;
@@ -81,6 +81,26 @@ pub fn backbone_csv(b: &Backbone) -> String {
     s.push('\n');
     for p in &b.points {
         let _ = write!(s, "{},{},{},{}", p.omega, p.damping, p.xi, p.amplitude);
+        for o in &p.outputs {
+            let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The CSV of a family of limit cycles: `<P>,omega,period,stable,<out>_max_abs,
+/// <out>_mean,<out>_amp1,...`, one row per point in arc-length order (`stable` empty
+/// where there is no verdict).
+pub fn cycles_csv(f: &CycleFamily) -> String {
+    let mut s = format!("{},omega,period,stable", f.parameter);
+    for name in &f.output_names {
+        let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
+    }
+    s.push('\n');
+    for p in &f.points {
+        let stable = p.stability.verdict().map_or(String::new(), |b| b.to_string());
+        let _ = write!(s, "{},{},{},{stable}", p.value, p.omega, p.period);
         for o in &p.outputs {
             let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
         }

@@ -1,6 +1,6 @@
 //! The JSON documents of CONTRACT section 2, field for field and in that order.
 
-use crate::backbone::{Backbone, Cycle};
+use crate::backbone::{Backbone, Cycle, CycleFamily, EventKind};
 use crate::bifurcation::{FoldCurves, FoldPoint};
 use crate::results::{Curve, PointOutput, SimRecord, SolveRecord};
 use serde_json::{json, Map, Value};
@@ -169,8 +169,10 @@ pub fn folds_json(f: &FoldCurves) -> Value {
 /// The JSON of `backbone` (CONTRACT section 3): `{model, harmonics, mode, points:
 /// [{omega, damping, stable, outputs: {name: {max_abs, mean, amp1}}}]}`, each point
 /// also with `xi` (the artificial damping of `-ξ M ẋ`) and `amplitude` (the modal
-/// amplitude), and `output`, `to`, `linear` (the start's `omega` and `damping`) and
-/// `ended`. `stable` is `null`: the stability of a mode is not checked.
+/// amplitude), and `output`, `to`, `linear` (the start's `omega` and `damping`),
+/// `events` (`[{kind: "turn" | "internal-resonance", omega, amplitude, ratio: "k:1"
+/// or null, mode: the other mode or null, after}]`) and `ended`. `stable` is `null`:
+/// the stability of a mode is not checked.
 pub fn backbone_json(b: &Backbone) -> Value {
     let points: Vec<Value> = b
         .points
@@ -181,11 +183,26 @@ pub fn backbone_json(b: &Backbone) -> Value {
                     "outputs": point_outputs(&b.output_names, &p.outputs) })
         })
         .collect();
+    let events: Vec<Value> = b
+        .events
+        .iter()
+        .map(|e| {
+            let (ratio, mode) = match e.kind {
+                EventKind::InternalResonance { mode, ratio } => {
+                    (Value::from(format!("{ratio}:1")), Value::from(mode))
+                }
+                EventKind::Turn => (Value::Null, Value::Null),
+            };
+            json!({ "kind": e.kind.name(), "omega": e.omega, "amplitude": e.amplitude,
+                    "ratio": ratio, "mode": mode, "after": e.after })
+        })
+        .collect();
     json!({
         "model": b.model, "harmonics": b.harmonics, "mode": b.mode,
         "points": points,
         "output": b.output_names.get(b.output), "to": b.to,
         "linear": { "omega": b.linear.0, "damping": b.linear.1 },
+        "events": events,
         "ended": b.ended.to_string(),
         "stats": { "iterations": b.iterations, "steps": b.steps },
     })
@@ -207,5 +224,28 @@ pub fn cycle_json(c: &Cycle) -> Value {
         "model": c.model, "harmonics": c.harmonics, "converged": true,
         "omega": c.omega, "period": c.period, "stable": c.stability.verdict(),
         "outputs": Value::Object(outs), "mode": c.mode,
+    })
+}
+
+/// The JSON of a family of limit cycles (`cycle --param`): `{model, harmonics,
+/// parameter, mode, points: [{value, omega, period, stable, outputs: {name: {max_abs,
+/// mean, amp1}}}], hopf: {value, omega} or null, ended, range, stats}`.
+pub fn cycles_json(f: &CycleFamily) -> Value {
+    let points: Vec<Value> = f
+        .points
+        .iter()
+        .map(|p| {
+            json!({ "value": p.value, "omega": p.omega, "period": p.period,
+                    "stable": p.stability.verdict(),
+                    "outputs": point_outputs(&f.output_names, &p.outputs) })
+        })
+        .collect();
+    json!({
+        "model": f.model, "harmonics": f.harmonics, "parameter": f.parameter,
+        "mode": f.mode, "points": points,
+        "hopf": f.hopf.map(|h| json!({ "value": h.value, "omega": h.omega })),
+        "ended": f.ended.to_string(),
+        "range": [f.range.0, f.range.1],
+        "stats": { "iterations": f.iterations, "steps": f.steps },
     })
 }

@@ -15,11 +15,13 @@ use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-pub use csv::{backbone_csv, curve_csv, folds_csv};
-pub use json::{backbone_json, cycle_json, folds_json, simulate_json, solve_json, sweep_json};
+pub use csv::{backbone_csv, curve_csv, cycles_csv, folds_csv};
+pub use json::{
+    backbone_json, cycle_json, cycles_json, folds_json, simulate_json, solve_json, sweep_json,
+};
 pub use plot::{
-    backbone_svg, figure_svg, folds_svg, folds_svg_family, trend_svg, Figure, Panel, Series,
-    TimeMarker,
+    backbone_svg, cycles_svg, figure_svg, figure_svg_with, folds_svg, folds_svg_family, trend_svg,
+    Figure, Overlay, Panel, Series, TimeMarker,
 };
 pub use summary::{convergence_line, curve_facts, CurveFacts};
 

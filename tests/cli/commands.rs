@@ -773,3 +773,184 @@ fn cycle_writes_contract_json() {
     assert!(stderr(&o).contains("no limit cycle"), "{}", stderr(&o));
     assert_rejected(&["cycle", "van-der-pol", "--omega", "-1"], &["frequency guess"]);
 }
+
+/// `cycle --param` continues the van der Pol cycle in μ through its Hopf point at
+/// μ = 0 (the equilibrium's eigenvalues μ/2 ± i√(1 - μ²/4)): the JSON names it with
+/// ω = 1, every point keeps amplitude 2 + O(μ²) and ω = 1 - μ²/16 + O(μ⁴), stable
+/// for μ > 0 and unstable for μ < 0; CSV and SVG are written; bad input fails with
+/// the reason.
+#[test]
+fn cycle_families_write_points_and_the_hopf_point() {
+    let (csv, svg) = (tmp("cycles.csv"), tmp("cycles.svg"));
+    let o = ihbm(&[
+        "cycle",
+        "van-der-pol",
+        "--omega",
+        "1",
+        "--param",
+        "mu",
+        "--from",
+        "1",
+        "--to",
+        "-0.5",
+        "--harmonics",
+        "15",
+        "--json",
+        "-",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["parameter"], "mu");
+    assert_eq!(v["ended"], "reached the end of the range");
+    assert!(v["hopf"]["value"].as_f64().unwrap().abs() < 1e-10, "{}", v["hopf"]);
+    assert!((v["hopf"]["omega"].as_f64().unwrap() - 1.0).abs() < 1e-10, "{}", v["hopf"]);
+    let points = v["points"].as_array().unwrap();
+    assert_eq!(keys(&points[0])[..5], ["value", "omega", "period", "stable", "outputs"]);
+    for p in points {
+        let (mu, w) = (p["value"].as_f64().unwrap(), p["omega"].as_f64().unwrap());
+        let period = p["period"].as_f64().unwrap();
+        assert!((period * w - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+        if mu.abs() <= 0.2 {
+            assert!(
+                (w - (1.0 - mu * mu / 16.0)).abs() < 0.05 * mu.powi(4) + 1e-12,
+                "μ = {mu}: {w}"
+            );
+            let a = p["outputs"]["x"]["max_abs"].as_f64().unwrap();
+            assert!((a - 2.0).abs() < 0.1 * mu * mu + 1e-9, "μ = {mu}: {a}");
+        }
+        if mu.abs() > 1e-3 {
+            assert_eq!(p["stable"], mu > 0.0, "μ = {mu}");
+        }
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("mu,omega,period,stable,x_max_abs,x_mean,x_amp1\n"), "{text}");
+    assert_eq!(text.lines().count(), 1 + points.len());
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("Hopf point"));
+
+    assert_rejected(
+        &["cycle", "van-der-pol", "--omega", "1", "--param", "nu", "--from", "1", "--to", "0"],
+        &["nu", "mu"],
+    );
+    let o =
+        ihbm(&["cycle", "duffing", "--omega", "1", "--param", "c", "--from", "0.1", "--to", "0.2"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("no limit cycle"), "{}", stderr(&o));
+    assert_rejected(
+        &["cycle", "van-der-pol", "--omega", "1", "--param", "mu", "--from", "1"],
+        &["--to"],
+    );
+}
+
+/// `sweep --plot --backbone` draws the Duffing oscillator's backbone over the sweep,
+/// continued to the sweep's largest amplitude: a dotted polyline with its legend
+/// entry, whose vertices are the points of `ihbm backbone --to A_max` (an affine
+/// image of them, to the SVG's 0.01-pixel rounding).
+#[test]
+fn sweep_plots_carry_the_backbone_of_the_modes_in_range() {
+    let svg = tmp("sweep-backbone.svg");
+    let o = ihbm(&[
+        "sweep",
+        "duffing",
+        "--from",
+        "0.5",
+        "--to",
+        "3",
+        "--harmonics",
+        "5",
+        "--json",
+        "-",
+        "--plot",
+        svg.to_str().unwrap(),
+        "--backbone",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let top = v["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["outputs"]["x"]["max_abs"].as_f64().unwrap())
+        .fold(0.0f64, f64::max);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("backbone, mode 1"), "no legend entry");
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let lines: Vec<Vec<(f64, f64)>> = doc
+        .descendants()
+        .filter(|n| n.attribute("data-overlay") == Some("backbone mode 1 x"))
+        .map(|n| {
+            n.attribute("points")
+                .unwrap()
+                .split_whitespace()
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect()
+        })
+        .collect();
+    let [line] = lines.as_slice() else { panic!("one backbone polyline: {}", lines.len()) };
+    let o = ihbm(&["backbone", "duffing", "--to", &top.to_string(), "--harmonics", "5", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let b: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let pts: Vec<(f64, f64)> = b["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["omega"].as_f64().unwrap(), p["outputs"]["x"]["max_abs"].as_f64().unwrap()))
+        .collect();
+    assert_eq!(line.len(), pts.len());
+    assert!((pts.last().unwrap().1 - top).abs() < 1e-9 * top);
+    let (p0, p1, q0, q1) = (pts[0], pts[pts.len() - 1], line[0], line[line.len() - 1]);
+    let (ax, ay) = ((q1.0 - q0.0) / (p1.0 - p0.0), (q1.1 - q0.1) / (p1.1 - p0.1));
+    for (p, q) in pts.iter().zip(line) {
+        let (x, y) = (q0.0 + ax * (p.0 - p0.0), q0.1 + ay * (p.1 - p0.1));
+        assert!(
+            (x - q.0).abs() < 0.02 && (y - q.1).abs() < 0.02,
+            "{p:?} drawn at {q:?}, expected ({x}, {y})"
+        );
+    }
+    assert_rejected(&["sweep", "duffing", "--from", "0.5", "--to", "3", "--backbone"], &["--plot"]);
+}
+
+/// `backbone --json` reports the internal resonances met: the two-mass chain with its
+/// second mode moved up (k2 = 7, no quadratic spring, no fractional damper: the
+/// linear model is `K = [[k1 + kc, -kc], [-kc, k2 + kc]]`, `M = diag(m1, m2)`) has
+/// the third harmonic of its stiffening first mode cross the second mode's linear
+/// frequency at exactly a third of it.
+#[test]
+fn backbone_json_lists_the_internal_resonances_met() {
+    let o = ihbm(&[
+        "backbone",
+        "two-mass-chain",
+        "--to",
+        "1.5",
+        "--harmonics",
+        "9",
+        "--set",
+        "k2=7",
+        "--set",
+        "kq=0",
+        "--set",
+        "hc=0",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let events = v["events"].as_array().unwrap();
+    let [ev] = events.as_slice() else { panic!("one event: {events:?}") };
+    assert_eq!(keys(ev)[..5], ["kind", "omega", "amplitude", "ratio", "mode"]);
+    assert_eq!(
+        (ev["kind"].as_str(), ev["ratio"].as_str(), ev["mode"].as_u64()),
+        (Some("internal-resonance"), Some("3:1"), Some(2))
+    );
+    let (k1, kc, k2, m1, m2) = (1.0f64, 0.5, 7.0, 1.0, 0.5);
+    // det(K - λ M) = m1 m2 λ² - (m1 (k2 + kc) + m2 (k1 + kc)) λ + (k1 + kc)(k2 + kc) - kc²
+    let (a, b, c) = (m1 * m2, -(m1 * (k2 + kc) + m2 * (k1 + kc)), (k1 + kc) * (k2 + kc) - kc * kc);
+    let w2 = ((-b + (b * b - 4.0 * a * c).sqrt()) / (2.0 * a)).sqrt();
+    let w = ev["omega"].as_f64().unwrap();
+    assert!((w - w2 / 3.0).abs() < 1e-9 * w2, "ω = {w} vs {}", w2 / 3.0);
+}

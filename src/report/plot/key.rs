@@ -14,6 +14,8 @@ pub(super) enum Key {
     Line(RGBColor),
     /// Black, dashed: unstable branches.
     Dashed,
+    /// A colour, dotted: an overlay (a backbone).
+    Dotted(RGBColor),
     /// A filled triangle: folds.
     Fold,
     /// A short vertical dotted line: jumps.
@@ -70,6 +72,7 @@ pub(super) fn draw_legend(
         match *key {
             Key::Line(c) => area.draw(&PathElement::new(line, c.stroke_width(2))),
             Key::Dashed => area.draw(&DashedPathElement::new(line, 5, 3, BLACK.stroke_width(2))),
+            Key::Dotted(c) => area.draw(&DashedPathElement::new(line, 2, 3, c.stroke_width(2))),
             Key::Fold => area.draw(&TriangleMarker::new((kx + 10, mid), 6, BLACK.filled())),
             Key::Jump => area.draw(&DashedPathElement::new(
                 vec![(kx + 10, mid - 6), (kx + 10, mid + 6)],

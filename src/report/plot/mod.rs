@@ -11,11 +11,14 @@
 //! ([`super::legend`]).
 
 mod backbone;
+mod cycles;
 mod folds;
 mod key;
 mod svg;
 
 pub use backbone::backbone_svg;
+
+pub use cycles::cycles_svg;
 pub use folds::{folds_svg, folds_svg_family, trend_svg};
 
 use super::legend::{self, Placement, Rect};
@@ -76,6 +79,25 @@ pub struct Figure<'a> {
     pub markers: Vec<TimeMarker>,
 }
 
+/// A curve computed elsewhere drawn over a figure's panel, straight through its
+/// points (no smoothing: the vertices are the data): a backbone over a sweep.
+#[derive(Debug, Clone)]
+pub struct Overlay {
+    /// Legend label, e.g. `"backbone, mode 1"`.
+    pub label: String,
+    /// The panel (output name) it is drawn on.
+    pub output: String,
+    /// Its points: frequency (rad/s) and the output's value.
+    pub points: Vec<(f64, f64)>,
+    /// Written as the polyline's `data-overlay` attribute (to find it in the SVG).
+    pub tag: String,
+}
+
+/// The colours of overlays with different labels, in order (drawn dotted: a dark
+/// grey first, which no family member has).
+const OVERLAY_COLORS: [RGBColor; 4] =
+    [RGBColor(40, 40, 40), RGBColor(214, 39, 40), RGBColor(148, 103, 189), RGBColor(44, 160, 44)];
+
 /// The colours of a family's members, in order (also the fold-curve figures').
 pub(super) const COLORS: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
@@ -100,6 +122,12 @@ fn plot_err<E: std::fmt::Debug>(e: E) -> Error {
 
 /// Draw a figure and return the SVG document.
 pub fn figure_svg(fig: &Figure) -> Result<String, Error> {
+    figure_svg_with(fig, &[])
+}
+
+/// [`figure_svg`] with `overlays` drawn over the panels they name, dotted, each with
+/// its legend entry.
+pub fn figure_svg_with(fig: &Figure, overlays: &[Overlay]) -> Result<String, Error> {
     let mut svg = String::new();
     let mut slots = CurveSlots::default();
     {
@@ -113,7 +141,7 @@ pub fn figure_svg(fig: &Figure) -> Result<String, Error> {
             .map_err(plot_err)?;
         let areas = body.split_evenly((n as usize, 1));
         for (panel, area) in fig.panels.iter().zip(areas) {
-            draw_panel(fig, panel, &area, &mut slots)?;
+            draw_panel(fig, overlays, panel, &area, &mut slots)?;
         }
         root.present().map_err(plot_err)?;
     }
@@ -157,6 +185,9 @@ impl<'a> XAxis<'a> {
 fn drawn_stable(p: &CurvePoint) -> bool {
     !p.stability.is_unstable()
 }
+
+/// An overlay as a panel draws it: colour, tag and points in data coordinates.
+type DrawnOverlay = (RGBColor, String, Vec<(f64, f64)>);
 
 /// A stretch of curve drawn in one style: whether stable, and its points.
 type Run = (bool, Vec<(f64, f64)>);
@@ -261,17 +292,26 @@ struct Content {
     jumps: Vec<(RGBColor, f64, f64, f64)>,
     /// Time-domain markers: kind index and point.
     markers: Vec<(usize, (f64, f64))>,
+    /// Overlays: their colour, tag and points.
+    overlays: Vec<DrawnOverlay>,
     /// Legend rows.
     entries: Vec<(String, Key)>,
 }
 
 impl Content {
-    fn of(fig: &Figure, panel: &Panel, axis: XAxis, scale: (f64, f64)) -> Self {
+    fn of(
+        fig: &Figure,
+        overlays: &[Overlay],
+        panel: &Panel,
+        axis: XAxis,
+        (scale, x_range): ((f64, f64), (f64, f64)),
+    ) -> Self {
         let mut c = Content {
             curves: Vec::new(),
             folds: Vec::new(),
             jumps: Vec::new(),
             markers: Vec::new(),
+            overlays: Vec::new(),
             entries: Vec::new(),
         };
         let (mut unstable_legend, mut fold_legend, mut jump_legend) = (false, false, false);
@@ -308,6 +348,27 @@ impl Content {
                 }
             }
         }
+        // an overlay is drawn from its start while it stays in the curves' x range
+        let mut labels: Vec<&str> = Vec::new();
+        for o in overlays.iter().filter(|o| o.output == panel.output) {
+            let pts: Vec<(f64, f64)> = o
+                .points
+                .iter()
+                .map(|&(w, v)| (axis.x(w, w), v))
+                .take_while(|p| p.0 >= x_range.0 && p.0 <= x_range.1)
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .collect();
+            if pts.is_empty() {
+                continue;
+            }
+            let k = labels.iter().position(|l| *l == o.label).unwrap_or(labels.len());
+            let color = OVERLAY_COLORS[k % OVERLAY_COLORS.len()];
+            if k == labels.len() {
+                labels.push(&o.label);
+                c.entries.push((o.label.clone(), Key::Dotted(color)));
+            }
+            c.overlays.push((color, o.tag.clone(), pts));
+        }
         let mut labels: Vec<&str> = Vec::new();
         for m in &fig.markers {
             if !labels.contains(&m.label.as_str()) {
@@ -343,6 +404,7 @@ impl Content {
         for (_, runs) in &self.curves {
             out.extend(runs.iter().map(|(_, pts)| pts.iter().map(|&p| to_px(p)).collect()));
         }
+        out.extend(self.overlays.iter().map(|(_, _, pts)| pts.iter().map(|&p| to_px(p)).collect()));
         out.extend(self.folds.iter().map(|&p| vec![to_px(p)]));
         out.extend(self.jumps.iter().map(|&(_, x, a, b)| vec![to_px((x, a)), to_px((x, b))]));
         out.extend(self.markers.iter().map(|&(_, p)| vec![to_px(p)]));
@@ -406,6 +468,7 @@ fn plot_rect(chart: &Chart, (x0, x1, y1): (f64, f64, f64)) -> (Rect, (f64, f64))
 
 fn draw_panel(
     fig: &Figure,
+    overlays: &[Overlay],
     panel: &Panel,
     area: &DrawingArea<SVGBackend, Shift>,
     slots: &mut CurveSlots,
@@ -414,7 +477,7 @@ fn draw_panel(
     let b = bounds(fig, panel, axis);
     let mut chart = build_chart(area, b, MARGIN)?;
     let (mut rect, scale) = plot_rect(&chart, b);
-    let mut content = Content::of(fig, panel, axis, scale);
+    let mut content = Content::of(fig, overlays, panel, axis, (scale, (b.0, b.1)));
     let size = legend_size(&content.entries);
     let mut lines = content.pixel_lines(PixelMap::of(&chart, b));
     let mut legend_at = match legend::place(rect, size, &lines) {
@@ -425,7 +488,7 @@ fn draw_panel(
             chart = build_chart(area, b, MARGIN + (size.0 + 2.0 * legend::INSET).ceil() as u32)?;
             let (r, scale) = plot_rect(&chart, b);
             rect = r;
-            content = Content::of(fig, panel, axis, scale);
+            content = Content::of(fig, overlays, panel, axis, (scale, (b.0, b.1)));
             lines = content.pixel_lines(PixelMap::of(&chart, b));
             (rect.x1 + legend::INSET, rect.y0)
         }
@@ -450,6 +513,10 @@ fn draw_panel(
     let mut polylines = String::new();
     for ((color, _, stable), px) in content.runs().zip(&lines) {
         polylines.push_str(&svg_polyline(px.iter().copied(), color, !stable));
+    }
+    let map = PixelMap::of(&chart, b);
+    for (color, tag, pts) in &content.overlays {
+        polylines.push_str(&svg::overlay_polyline(pts.iter().map(|&p| map.px(p)), *color, tag));
     }
     slots.reserve(area, polylines)?;
     chart

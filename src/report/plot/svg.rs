@@ -69,3 +69,22 @@ pub(super) fn svg_polyline(
     s.push_str("\"/>\n");
     s
 }
+
+/// An overlay's SVG polyline in pixels (two decimals), dotted 2–3, with its tag as
+/// the `data-overlay` attribute.
+pub(super) fn overlay_polyline(
+    pts: impl Iterator<Item = (f64, f64)>,
+    color: RGBColor,
+    tag: &str,
+) -> String {
+    use std::fmt::Write;
+    let RGBColor(r, g, b) = color;
+    let mut s = format!(
+        r##"<polyline fill="none" opacity="1" stroke="#{r:02X}{g:02X}{b:02X}" stroke-width="2" stroke-dasharray="2 3" data-overlay="{tag}" points=""##
+    );
+    for (x, y) in pts {
+        let _ = write!(s, "{x:.2},{y:.2} ");
+    }
+    s.push_str("\"/>\n");
+    s
+}
