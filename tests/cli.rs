@@ -9,5 +9,9 @@ mod commands;
 mod common;
 #[path = "cli/continuation.rs"]
 mod continuation;
+#[path = "cli/model_files.rs"]
+mod model_files;
+#[path = "shared/model_text.rs"]
+mod model_text;
 #[path = "cli/random_inputs.rs"]
 mod random_inputs;

@@ -17,6 +17,8 @@ mod equivalence;
 mod handwritten;
 #[path = "shared/mathieu.rs"]
 mod mathieu_model;
+#[path = "shared/model_text.rs"]
+mod model_text;
 #[path = "dsl/models.rs"]
 mod models;
 #[path = "dsl/nonlinear.rs"]

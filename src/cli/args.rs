@@ -28,7 +28,7 @@ pub enum Command {
     },
     /// Periodic solution at one forcing frequency (initial guess: the linearized model).
     Solve {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// Forcing frequency Ω, rad/s (> 0).
         #[arg(long, value_name = "W", allow_negative_numbers = true)]
@@ -46,7 +46,7 @@ pub enum Command {
     /// Trace the amplitude–frequency curve (continuation through folds, stability, jumps).
     #[command(after_help = SWEEP_AFTER_HELP)]
     Sweep {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// Start frequency, rad/s (> 0).
         #[arg(long, value_name = "W0", allow_negative_numbers = true)]
@@ -76,7 +76,7 @@ pub enum Command {
     /// (any parameter, a fractional order included): folds, stability, jumps.
     #[command(after_help = SWEEP_PARAM_AFTER_HELP)]
     SweepParam {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// The parameter to vary (see `ihbm models NAME`).
         #[arg(long, value_name = "P")]
@@ -98,7 +98,7 @@ pub enum Command {
     /// and a parameter, and locate the cusps where two folds meet (where jumps begin).
     #[command(after_help = FOLDS_AFTER_HELP)]
     Folds {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// The second parameter (see `ihbm models NAME`).
         #[arg(long, value_name = "P")]
@@ -131,7 +131,7 @@ pub enum Command {
     /// periodic motion concept: frequency and modal damping ratio against amplitude.
     #[command(after_help = BACKBONE_AFTER_HELP)]
     Backbone {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// The amplitude to reach: max |X(t)| of the output X.
         #[arg(long, value_name = "A", allow_negative_numbers = true)]
@@ -162,7 +162,7 @@ pub enum Command {
     /// forcing, near a frequency guess, with its stability.
     #[command(after_help = CYCLE_AFTER_HELP)]
     Cycle {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// Frequency guess, rad/s: the linearised mode nearest it is followed.
         #[arg(long, value_name = "GUESS", allow_negative_numbers = true)]
@@ -196,7 +196,7 @@ pub enum Command {
     /// Integrate in time from rest (Caputo derivative from t = 0); steady statistics of
     /// the last 10 forcing periods.
     Simulate {
-        /// Model name (see `ihbm models`).
+        /// Model name (see `ihbm models`), or the path of a model file (`*.ihbm`).
         name: String,
         /// Forcing frequency Ω, rad/s (> 0).
         #[arg(long, value_name = "W", allow_negative_numbers = true)]

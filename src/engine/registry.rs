@@ -14,7 +14,9 @@ use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::{Model, Output, ParamInfo, Text};
 use crate::results::{Curve, SimRecord, SolveRecord};
+use crate::runtime::RuntimeModel;
 use crate::timedomain::CompareRow;
+use std::path::{Path, PathBuf};
 
 /// A registered model with its current parameter values, usable without its type.
 pub trait AnyModel: Send + Sync {
@@ -234,10 +236,33 @@ impl Registry {
         &self.entries
     }
 
-    /// A fresh copy (default parameters) of the model called `name`.
+    /// A fresh copy (default parameters) of the model called `name`, or the model
+    /// read from `name` when it is the path of a model file (see [`is_model_file`]).
     pub fn get(&self, name: &str) -> Result<Box<dyn AnyModel>> {
+        self.get_in(name, None)
+    }
+
+    /// [`Registry::get`], a relative model-file path taken from `dir` (a study file's
+    /// directory) when given.
+    pub fn get_in(&self, name: &str, dir: Option<&Path>) -> Result<Box<dyn AnyModel>> {
+        if is_model_file(name) {
+            let path = match dir {
+                Some(d) if Path::new(name).is_relative() => d.join(name),
+                _ => PathBuf::from(name),
+            };
+            let model = RuntimeModel::from_file(&path)?;
+            let own = model.name().to_string();
+            return Ok(Box::new(Registered::new(&own, model)));
+        }
         self.entries.iter().find(|e| e.name() == name).map(|e| e.clone_box()).ok_or_else(|| {
             Error::UnknownModel { name: name.to_string(), known: self.names().join(", ") }
         })
     }
+}
+
+/// Whether a model name is the path of a model file: it ends in `.ihbm` or names a
+/// directory (`./m`, `dir/m`). Registered names are kebab-case words, so no name is
+/// both.
+pub fn is_model_file(name: &str) -> bool {
+    name.ends_with(".ihbm") || name.contains('/') || name.contains(std::path::MAIN_SEPARATOR)
 }

@@ -2,7 +2,8 @@
 //!
 //! ```toml
 //! title = "My study"
-//! model = "quarter-car"          # a registered model name
+//! model = "quarter-car"          # a registered model name, or a model file
+//!                                # ("chain.ihbm", relative to this file)
 //! harmonics = 5                  # default N for every curve
 //! unit = "Hz"                    # frequency axis of figures: "rad/s" (default) or "Hz"
 //! outputs = ["z1", "y"]          # panels of every figure (default: all outputs)
@@ -297,9 +298,16 @@ impl Study {
 
     /// The study's model with the study-level overrides applied.
     pub fn base_model(&self, reg: &Registry) -> Result<Box<dyn AnyModel>> {
-        let mut m = reg.get(self.model.get_ref()).map_err(|e| self.at(self.model.span(), e))?;
+        let mut m = self.model_named(&self.model, reg)?;
         apply(self, m.as_mut(), &self.params)?;
         Ok(m)
+    }
+
+    /// The registered model `name`, or the model file it names (relative to the study
+    /// file's directory), errors pointing at the name.
+    fn model_named(&self, name: &Spanned<String>, reg: &Registry) -> Result<Box<dyn AnyModel>> {
+        let dir = self.source.as_ref().and_then(|(f, _)| std::path::Path::new(f).parent());
+        reg.get_in(name.get_ref(), dir).map_err(|e| self.at(name.span(), e))
     }
 
     /// The model of figure `fig` with its overrides applied: the study's model (with
@@ -307,7 +315,7 @@ impl Study {
     pub fn figure_model(&self, fig: &FigureSpec, reg: &Registry) -> Result<Box<dyn AnyModel>> {
         let mut m = match &fig.model {
             None => self.base_model(reg)?,
-            Some(name) => reg.get(name.get_ref()).map_err(|e| self.at(name.span(), e))?,
+            Some(name) => self.model_named(name, reg)?,
         };
         apply(self, m.as_mut(), &fig.params)?;
         Ok(m)

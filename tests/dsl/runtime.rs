@@ -10,6 +10,7 @@
 //!   harmonic-balance residual and Jacobian, to 1e-12; and whole sweeps agree.
 
 use crate::equivalence::{coeffs, harmonic_check, sample_check};
+use crate::model_text::bodies;
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{
     BaseExcited, Duffing, FractionalDuffing, HalfCar, Quadratic, QuarterCar, TwoMassChain,
@@ -18,37 +19,6 @@ use ihbm::models::{
 use ihbm::runtime::RuntimeModel;
 use ihbm::{Error, Model};
 use std::path::Path;
-
-/// The body of each `oscillator! { ... }` in `text`, with everything before it blanked
-/// (newlines kept, other characters as spaces) so that lines and columns are the file's.
-fn bodies(text: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut from = 0;
-    while let Some(i) = text[from..].find("oscillator! {") {
-        let open = from + i + "oscillator! ".len();
-        let mut depth = 0;
-        let mut close = None;
-        for (j, ch) in text[open..].char_indices() {
-            match ch {
-                '{' => depth += 1,
-                '}' => {
-                    depth -= 1;
-                    if depth == 0 {
-                        close = Some(open + j);
-                        break;
-                    }
-                }
-                _ => {}
-            }
-        }
-        let close = close.expect("balanced braces");
-        let blank: String =
-            text[..=open].chars().map(|c| if c == '\n' { '\n' } else { ' ' }).collect();
-        out.push(format!("{blank}{}", &text[open + 1..close]));
-        from = close;
-    }
-    out
-}
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
