@@ -4,8 +4,8 @@
 //! also over a whole sweep with stability.
 use criterion::{criterion_group, criterion_main, Criterion};
 use ihbm::balance::Balance;
-use ihbm::model::Model;
 use ihbm::continuation::{sweep, SweepOptions};
+use ihbm::model::Model;
 use ihbm::models::QuarterCar;
 use ihbm::runtime::RuntimeModel;
 use std::hint::black_box;

@@ -77,6 +77,8 @@ pub mod book {
     pub struct QuarterCar;
     #[doc = include_str!("../book/src/models.md")]
     pub struct Models;
+    #[doc = include_str!("../book/src/model-files.md")]
+    pub struct ModelFiles;
     #[doc = include_str!("../book/src/continuation.md")]
     pub struct Continuation;
     #[doc = include_str!("../book/src/bifurcation.md")]

@@ -180,3 +180,9 @@ fn unreadable_huge_and_missing_model_files_are_refused_with_their_place() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_example_model_file_is_the_built_in_quarter_car() {
+    let m = RuntimeModel::from_file(&root().join("examples/quarter_car.ihbm")).unwrap();
+    twin_of(&QuarterCar::default(), &m, 8.0);
+}
