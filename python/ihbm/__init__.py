@@ -140,3 +140,24 @@ class Model:
         ``backbone`` JSON as a dict."""
         return json.loads(self._m.backbone(float(to), int(mode), int(harmonics), _pairs(set),
                                            output))
+
+    def folds(self, param, value_from, value_to, omega_from, omega_to,
+              harmonics=DEFAULT_HARMONICS, boundary=None, set=None, **settings):
+        """Every fold of the Ω-curve (``boundary="period-doubling"`` or ``"torus"``:
+        those points instead) continued as ``param`` goes from ``value_from`` to
+        ``value_to``, with the cusps: the ``folds`` JSON as a dict."""
+        return json.loads(self._m.folds(str(param), float(value_from), float(value_to),
+                                        float(omega_from), float(omega_to), int(harmonics),
+                                        _pairs(set), json.dumps(settings), boundary))
+
+    def cycle(self, omega, harmonics=DEFAULT_HARMONICS, set=None):
+        """A limit cycle of a model without forcing near the frequency guess ``omega``:
+        the ``cycle`` JSON as a dict."""
+        return json.loads(self._m.cycle(float(omega), int(harmonics), _pairs(set)))
+
+    def cycles(self, param, value_from, value_to, omega, harmonics=DEFAULT_HARMONICS,
+               set=None):
+        """The limit cycle near ``omega`` continued in ``param``, with the Hopf point
+        where it is born: the ``cycle --param`` JSON as a dict."""
+        return json.loads(self._m.cycles(str(param), float(value_from), float(value_to),
+                                         float(omega), int(harmonics), _pairs(set)))

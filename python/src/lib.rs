@@ -7,8 +7,12 @@
 //! keys and bad values get the study's messages. Every computation runs with the GIL
 //! released. Errors are `ihbm.IhbmError` with the library's message.
 
+use ihbm::backbone::FamilyOptions;
+use ihbm::bifurcation::Boundary;
 use ihbm::engine::registry::{AnyModel, Registered, Registry};
-use ihbm::engine::{BackboneSettings, ParamRange, SimSettings, SolveSettings, SweepSettings};
+use ihbm::engine::{
+    BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings, SweepSettings,
+};
 use ihbm::runtime::RuntimeModel;
 use ihbm::{report, Cli, Error};
 use pyo3::prelude::*;
@@ -199,6 +203,83 @@ impl NativeModel {
         let s = BackboneSettings { mode, output, to, harmonics };
         let b = py.detach(|| m.backbone(&s)).map_err(py_err)?;
         Ok(json_text(&report::backbone_json(&b)))
+    }
+
+    /// The folds JSON: every fold (or period-doubling / torus point, `boundary`) of the
+    /// Ω-curve over `omega_from..omega_to` continued in `param` from `value_from` to
+    /// `value_to`, with the cusps.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (param, value_from, value_to, omega_from, omega_to, harmonics, set, settings, boundary=None))]
+    fn folds(
+        &self,
+        py: Python<'_>,
+        param: &str,
+        value_from: f64,
+        value_to: f64,
+        omega_from: f64,
+        omega_to: f64,
+        harmonics: usize,
+        set: Vec<(String, f64)>,
+        settings: &str,
+        boundary: Option<&str>,
+    ) -> PyResult<String> {
+        let m = self.configured(&set)?;
+        let s = sweep_settings(harmonics, settings)?;
+        let boundary: Boundary = match boundary {
+            None => Boundary::default(),
+            Some(b) => serde_json::from_value(serde_json::Value::String(b.to_string()))
+                .map_err(|e| IhbmError::new_err(format!("invalid boundary '{b}': {e}")))?,
+        };
+        let r = FoldRange {
+            param,
+            from: value_from,
+            to: value_to,
+            omega: (omega_from, omega_to),
+            boundary,
+        };
+        let f = py
+            .detach(|| m.fold_curves(&r, &s, &mut |_, _| ihbm::continuation::Control::Continue))
+            .map_err(py_err)?;
+        Ok(json_text(&report::folds_json(&f)))
+    }
+
+    /// The cycle JSON: a limit cycle of an autonomous model near the frequency `omega`.
+    fn cycle(
+        &self,
+        py: Python<'_>,
+        omega: f64,
+        harmonics: usize,
+        set: Vec<(String, f64)>,
+    ) -> PyResult<String> {
+        let m = self.configured(&set)?;
+        let c = py.detach(|| m.cycle(omega, harmonics)).map_err(py_err)?;
+        Ok(json_text(&report::cycle_json(&c)))
+    }
+
+    /// The cycles JSON: the limit cycle near `omega` continued in `param`, with its
+    /// Hopf point.
+    #[allow(clippy::too_many_arguments)]
+    fn cycles(
+        &self,
+        py: Python<'_>,
+        param: &str,
+        value_from: f64,
+        value_to: f64,
+        omega: f64,
+        harmonics: usize,
+        set: Vec<(String, f64)>,
+    ) -> PyResult<String> {
+        let m = self.configured(&set)?;
+        let opts = FamilyOptions {
+            param: param.to_string(),
+            from: value_from,
+            to: value_to,
+            omega,
+            harmonics,
+            ..Default::default()
+        };
+        let f = py.detach(|| m.cycles(&opts)).map_err(py_err)?;
+        Ok(json_text(&report::cycles_json(&f)))
     }
 }
 

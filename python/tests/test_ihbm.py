@@ -178,3 +178,25 @@ def test_the_papers_fig7_example_runs(tmp_path):
     peaks = example.main(str(out))
     assert out.stat().st_size > 10_000
     assert len(peaks) == 6
+
+
+def test_van_der_pol_cycles_follow_the_small_mu_expansion_and_the_hopf_point():
+    vdp = ihbm.Model.builtin("van-der-pol")
+    for mu in [0.05, 0.1, 0.2]:
+        c = vdp.cycle(omega=1.0, harmonics=15, set={"mu": mu})
+        # ω = 1 − μ²/16 + O(μ⁴), amplitude 2 + O(μ²)
+        assert abs(c["omega"] - (1 - mu * mu / 16)) < 0.05 * mu ** 4 + 1e-12
+        assert abs(c["outputs"]["x"]["max_abs"] - 2.0) < 0.1 * mu * mu
+    f = vdp.cycles("mu", 1.0, -0.5, omega=1.0, harmonics=15)
+    assert abs(f["hopf"]["value"]) < 1e-10 and abs(f["hopf"]["omega"] - 1.0) < 1e-10
+
+
+def test_quarter_car_cusps_obey_the_cubic_scaling_law():
+    # x -> s x maps (k3, F) to (k3 s², F / s): the least cusp's F times √k3 is one number.
+    car = ihbm.Model.builtin("quarter-car")
+    least = []
+    for k3 in [2e6, 8e6]:
+        f = car.folds("F", 0.005, 0.2, omega_from=5.0, omega_to=60.0, set={"k3": k3})
+        cusps = [c["value"] for c in f["cusps"] if c["kind"] == "cusp"]
+        least.append(min(cusps) * math.sqrt(k3))
+    assert abs(least[1] / least[0] - 1) < 1e-7
