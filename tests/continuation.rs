@@ -16,10 +16,12 @@ mod duffing;
 mod fold_curves;
 #[path = "continuation/forced_peaks.rs"]
 mod forced_peaks;
-#[path = "continuation/internal_resonances.rs"]
-mod internal_resonances;
 #[path = "continuation/half_car.rs"]
 mod half_car;
+#[path = "continuation/internal_resonances.rs"]
+mod internal_resonances;
+#[path = "continuation/mode_stability.rs"]
+mod mode_stability;
 #[path = "continuation/period_two.rs"]
 mod period_two;
 #[path = "continuation/quarter_car.rs"]
