@@ -55,7 +55,8 @@ impl ModeStability {
         omega: f64,
         xi: f64,
     ) -> (Stability, Vec<Complex64>) {
-        if !(xi.abs() <= XI_ZERO * omega) {
+        // (a NaN ξ is no motion either)
+        if xi.abs().is_nan() || xi.abs() > XI_ZERO * omega {
             return (Stability::Unknown(Unknown::NotAMotion), Vec::new());
         }
         let f = match self.hill.analyse(bal, coeffs, omega, &StabilityOptions::default()) {
