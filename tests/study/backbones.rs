@@ -1,8 +1,11 @@
 //! Backbones in study figures: the spec's errors point at the file, line and column;
 //! a figure's backbones are the closed form's, continued to the figure's largest
-//! amplitude, written and drawn.
+//! amplitude, written and drawn; the reference study's nonlinear-mode figure starts
+//! at the quarter car's linearised damped modes.
 
+use ihbm::models::QuarterCar;
 use ihbm::{study, Cli};
+use num_complex::Complex64;
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -140,4 +143,101 @@ fn a_figure_draws_the_backbone_to_its_largest_amplitude() {
     ] {
         assert!(row.contains(&format!("| {cell} |")), "{cell} in {row}");
     }
+}
+
+/// The linearised quarter car, z = φ e^{λt}: `det(Z(iω) - iω ξ M) = 0` with
+/// `Z = [[m1 λ² + s, -s], [-s, m2 λ² + s + kt]]`, `s = k1 + c λ + h λ^p` (the exact
+/// fractional factor), for (ω, ξ) by Newton from the undamped frequencies; D = ξ/(2ω).
+fn damped_modes(q: &QuarterCar) -> [(f64, f64); 2] {
+    let det = |w: f64, xi: f64| -> Complex64 {
+        let l = Complex64::new(0.0, w);
+        let s = q.k1 + q.c * l + q.h * l.powf(q.p);
+        let a = q.m1 * l * l + s - xi * l * q.m1;
+        let d = q.m2 * l * l + s + q.kt - xi * l * q.m2;
+        a * d - s * s
+    };
+    [(q.k1 / q.m1).sqrt(), ((q.k1 + q.kt) / q.m2).sqrt()].map(|guess| {
+        let (mut w, mut xi) = (guess, 0.0);
+        for _ in 0..60 {
+            let f = det(w, xi);
+            let h = 1e-7 * w;
+            let fw = (det(w + h, xi) - det(w - h, xi)) / (2.0 * h);
+            let fx = (det(w, xi + h) - det(w, xi - h)) / (2.0 * h);
+            let m = fw.re * fx.im - fx.re * fw.im;
+            w -= (f.re * fx.im - fx.re * f.im) / m;
+            xi -= (fw.re * f.im - f.re * fw.im) / m;
+        }
+        (w, xi / (2.0 * w))
+    })
+}
+
+/// The reference study's figure of the quarter car's two modes, run alone: each
+/// backbone starts at its damped linear mode (the 2×2 determinant above, to 1e-6),
+/// the body mode stiffens and its forced peaks lean the same way (their frequency
+/// grows with their amplitude), and the figure has both backbones and the damping row.
+#[test]
+fn the_reference_modes_figure_starts_at_the_linearised_quarter_car() {
+    let reg = Cli::builtin();
+    let mut s = study::parse(study::REFERENCE_STUDY, "reference").unwrap();
+    s.figures.retain(|f| f.id.get_ref() == "modes_backbones");
+    s.labels.retain(|k, _| k == "z1" || k == "y"); // the half car's are for its figures
+    assert_eq!(s.figures.len(), 1);
+    s.validate(reg.registry()).unwrap();
+    let fig = &s.figures[0];
+    let k3 = fig.params.iter().find(|(k, _)| k.get_ref() == "k3").map(|(_, v)| *v);
+    let q = QuarterCar { k3: k3.unwrap(), ..Default::default() };
+    let modes = damped_modes(&q);
+    let dir = tmp("reference-modes");
+    let out = study::run(&s, reg.registry(), &dir).unwrap();
+    assert!(out.failures.is_empty(), "{:#?}", out.failures);
+    // A backbone starts at 1e-4 of the amplitude it is continued to, in its output.
+    // The wheel hop continued in z1 (which barely moves in it: z1/z2 ≈ -0.01) to the
+    // body's forced amplitude starts with a wheel deflection ~100 times larger, where
+    // the cubic spring already shifts ω by 3e-5: its start is not the linear limit.
+    for (mode, o) in [(1, "z1"), (1, "y"), (2, "y")] {
+        let (w, d) = modes[mode - 1];
+        let b = json(&dir, &format!("modes_backbones_backbone{mode}_{o}"));
+        let first = &b["points"][0];
+        let (w0, d0) = (f(&first["omega"]), f(&first["damping"]));
+        assert!((w0 / w - 1.0).abs() < 1e-6, "mode {mode} on {o}: ω = {w0} vs {w}");
+        assert!((d0 / d - 1.0).abs() < 1e-6, "mode {mode} on {o}: D = {d0} vs {d}");
+    }
+    for (mode, o) in [(1, "z1"), (1, "y"), (2, "z1"), (2, "y")] {
+        let b = json(&dir, &format!("modes_backbones_backbone{mode}_{o}"));
+        assert_eq!(b["ended"], "reached the amplitude", "mode {mode} on {o}");
+        assert!(b["points"].as_array().unwrap().iter().all(|p| p["stable"].is_null()));
+    }
+    // The body mode stiffens (k3 > 0): ω grows along its backbone in z1 ...
+    let body = json(&dir, "modes_backbones_backbone1_z1");
+    let pts = body["points"].as_array().unwrap();
+    let (w_first, w_last) = (f(&pts[0]["omega"]), f(&pts[pts.len() - 1]["omega"]));
+    assert!(w_last > w_first * 1.01, "the body mode stiffens: {w_first} to {w_last}");
+    // ... and the forced body peaks (Ω below 40 rad/s) lean the same way: the larger
+    // the road amplitude, the higher the peak and its frequency.
+    let peaks: Vec<(f64, f64)> = ["0.01", "0.02", "0.03"]
+        .iter()
+        .map(|v| {
+            let c = json(&dir, &format!("modes_backbones_F_{v}"));
+            c["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|p| f(&p["omega"]) < 40.0)
+                .map(|p| (f(&p["outputs"]["z1"]["max_abs"]), f(&p["omega"])))
+                .fold((0.0, 0.0), |m, x| if x.0 > m.0 { x } else { m })
+        })
+        .collect();
+    for w in peaks.windows(2) {
+        assert!(w[1].0 > w[0].0 && w[1].1 > w[0].1, "peaks (max |z1|, Ω): {peaks:?}");
+    }
+    let texts = std::fs::read_to_string(dir.join("modes_backbones.svg")).unwrap();
+    for tag in ["backbone mode 1 z1", "backbone mode 2 y"] {
+        assert!(texts.contains(&format!("data-overlay=\"{tag}\"")), "{tag}");
+    }
+    assert!(texts.contains("modal damping ratio D"));
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    let (w1, d1) = modes[0];
+    assert!(summary.contains(&format!("| mode 1 | z1 | {w1:.4} | {d1:.4e} |")), "{summary}");
+    let (w2, d2) = modes[1];
+    assert!(summary.contains(&format!("| mode 2 | y | {w2:.4} | {d2:.4e} |")), "{summary}");
 }
