@@ -509,10 +509,14 @@ fn write_backbones(
     let (overlays, warnings) = crate::engine::backbone_overlays(&done.backbones, &names);
     out.failures.extend(warnings.into_iter().map(|w| format!("{}: {w}", p.id)));
     if done.backbones.is_empty() && !p.backbone_modes().is_empty() {
-        out.failures.push(format!(
-            "{}: no mode's linear natural frequency lies in the range: no backbone drawn",
-            p.id
-        ));
+        let why = if done.curves.iter().all(Option::is_none) {
+            "no curve finished to take the amplitudes from"
+        } else if p.backbone.as_ref().and_then(BackboneSpec::modes).is_some() {
+            "the modes asked for have no oscillatory linear mode to start from"
+        } else {
+            "no mode's linear natural frequency lies in the range"
+        };
+        out.failures.push(format!("{}: {why}: no backbone drawn", p.id));
     }
     overlays
 }

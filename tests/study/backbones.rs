@@ -65,6 +65,26 @@ fn backbone_spec_errors_point_at_the_value() {
     s.validate(reg.registry()).unwrap();
 }
 
+/// `backbone = true` with no linear natural frequency in the range (the Duffing
+/// oscillator's is 1 rad/s, the range 2 to 3): a failed part saying so, and the
+/// figure is still drawn, without backbones.
+#[test]
+fn no_mode_in_the_range_is_a_failed_part_and_the_figure_is_kept() {
+    let reg = Cli::builtin();
+    let text = "model = \"duffing\"\nfrequency = { from = 2.0, to = 3.0 }\n[[figure]]\nid = \"n\"\nbackbone = true\n";
+    let s = study::parse(text, "n.toml").unwrap();
+    s.validate(reg.registry()).unwrap();
+    let dir = tmp("none-in-range");
+    let out = study::run(&s, reg.registry(), &dir).unwrap();
+    assert_eq!(
+        out.failures,
+        ["n: no mode's linear natural frequency lies in the range: no backbone drawn"]
+    );
+    let svg = std::fs::read_to_string(dir.join("n.svg")).unwrap();
+    assert!(!svg.contains("data-overlay"));
+    assert!(!dir.join("n_backbone1_x.json").exists());
+}
+
 /// The complete elliptic integral of the first kind K(m), by the AGM.
 fn ellip_k(m: f64) -> f64 {
     let (mut a, mut b) = (1.0, (1.0 - m).sqrt());
