@@ -85,6 +85,10 @@ pub enum Unknown {
     NotConverged,
     /// The Hill analysis failed; its reason.
     Failed(String),
+    /// A point of a damped nonlinear mode (artificial damping ξ ≠ 0): a periodic
+    /// motion of the model with `-ξ M ẋ` added, not of the model itself, which has
+    /// no periodic free motion to be stable or not (see `crate::backbone`).
+    NotAMotion,
 }
 
 impl Stability {
@@ -126,6 +130,9 @@ impl std::fmt::Display for Stability {
             Stability::Unknown(Unknown::NotChecked) => f.write_str("not checked"),
             Stability::Unknown(Unknown::NotConverged) => f.write_str("unknown (not converged)"),
             Stability::Unknown(Unknown::Failed(why)) => write!(f, "unknown ({why})"),
+            Stability::Unknown(Unknown::NotAMotion) => {
+                f.write_str("unknown (ξ ≠ 0: not a motion of the model)")
+            }
         }
     }
 }

@@ -20,6 +20,8 @@ mod forced_peaks;
 mod half_car;
 #[path = "continuation/internal_resonances.rs"]
 mod internal_resonances;
+#[path = "continuation/mode_stability.rs"]
+mod mode_stability;
 #[path = "continuation/period_two.rs"]
 mod period_two;
 #[path = "continuation/quarter_car.rs"]

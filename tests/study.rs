@@ -3,6 +3,8 @@
 //! One test binary per area (each integration-test binary links the whole crate, and
 //! linking one per file dominated a fresh `cargo test`); the tests are in `tests/study/`.
 
+#[path = "study/backbones.rs"]
+mod backbones;
 #[path = "study/reference.rs"]
 mod reference;
 #[path = "study/report_files.rs"]

@@ -144,10 +144,7 @@ pub(super) fn autonomous_stability<M: Model>(
     let mut hill = Hill::new(model, harmonics)?;
     let opts = StabilityOptions::default();
     let f = hill.analyse(&mut bal, coeffs, omega, &opts)?;
-    let mut exps = f.exponents;
-    if let Some(i) = (0..exps.len()).min_by(|&a, &b| exps[a].norm().total_cmp(&exps[b].norm())) {
-        exps.remove(i);
-    }
+    let exps = super::stability::without_phase(f.exponents);
     let stable = exps.iter().all(|l| l.re <= opts.tol * omega);
     Ok((if stable { Stability::Stable } else { Stability::Unstable }, exps))
 }

@@ -229,6 +229,8 @@ pub fn cycles_with<M: Model + Clone>(
         opts: bo,
         goal: Goal::Amplitude(f64::INFINITY),
         others: Vec::new(),
+        // every cycle's verdict comes from its own parameter value, below
+        stability: None,
     };
     let mut fam = CycleFamily {
         model: model.name().to_string(),

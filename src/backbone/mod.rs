@@ -38,6 +38,7 @@ mod epmc;
 mod family;
 mod hopf;
 mod linear;
+mod stability;
 
 use crate::balance::Balance;
 use crate::continuation::tracer::{dot, LOCATE_ITER};
@@ -45,7 +46,7 @@ use crate::continuation::Control;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::outputs::OutputEval;
-use crate::results::PointOutput;
+use crate::results::{PointOutput, Stability, Unknown};
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
 pub use family::{cycles, cycles_with, CycleFamily, CyclePoint, FamilyEnd, FamilyOptions, Hopf};
@@ -122,6 +123,14 @@ pub struct ModePoint {
     pub coeffs: Vec<f64>,
     /// Per output, in model output order.
     pub outputs: Vec<PointOutput>,
+    /// Where ξ = 0 (a conservative model) the point is a periodic motion of the
+    /// model: Hill's verdict, stable only when every exponent but the trivial zero
+    /// ones is on the imaginary axis. Where ξ ≠ 0 it is not a motion of the model, and the
+    /// verdict is [`Unknown::NotAMotion`].
+    pub stability: Stability,
+    /// The Floquet exponents other than the double zero of the phase and the energy
+    /// (central, by decreasing real part), where there is a verdict; empty otherwise.
+    pub exponents: Vec<num_complex::Complex64>,
 }
 
 /// What happens at a [`ModeEvent`].
@@ -357,7 +366,16 @@ fn trace<M: Model>(
         .filter(|&k| k != opts.mode)
         .filter_map(|k| linear_mode(model, k).ok().map(|m| (k, m.omega)))
         .collect();
-    let mut tracer = Tracer { sys, eval, h: opts.initial_step, opts: opts.clone(), goal, others };
+    let stability = stability::ModeStability::new(model, nh)?;
+    let mut tracer = Tracer {
+        sys,
+        eval,
+        h: opts.initial_step,
+        opts: opts.clone(),
+        goal,
+        others,
+        stability: Some(stability),
+    };
     let start = tracer.point(&y);
     res.linear = (start.omega, start.damping);
     res.points.push(start);
@@ -388,6 +406,8 @@ struct Tracer<'m, M: Model> {
     goal: Goal,
     /// The other modes (1-based) and their linear frequencies: internal resonances.
     others: Vec<(usize, f64)>,
+    /// Hill's method for points with ξ = 0 (`None`: no verdict is asked for).
+    stability: Option<stability::ModeStability>,
 }
 
 impl<M: Model> Tracer<'_, M> {
@@ -396,6 +416,10 @@ impl<M: Model> Tracer<'_, M> {
         let mut outputs = Vec::new();
         self.eval.points(&coeffs, &mut outputs);
         let (omega, xi) = (self.sys.omega(y), self.sys.xi(y));
+        let (stability, exponents) = match &mut self.stability {
+            Some(s) => s.at(&mut self.sys.bal, &coeffs, omega, xi),
+            None => (Stability::Unknown(Unknown::NotChecked), Vec::new()),
+        };
         ModePoint {
             omega,
             xi,
@@ -403,6 +427,8 @@ impl<M: Model> Tracer<'_, M> {
             amplitude: self.sys.log_amplitude(y).exp(),
             coeffs,
             outputs,
+            stability,
+            exponents,
         }
     }
 

@@ -354,7 +354,9 @@ outputs: {X: {max_abs, mean, amp1}}}], output, to, linear: {omega, damping}, eve
 after}], ended, stats}. A backbone is followed through its turns and internal resonances
 (harmonic k of its frequency crossing another mode's linear frequency); events says
 where they are. damping is the modal damping ratio D = xi / (2 omega) (0 for a conservative
-model); stable is null (not checked). The CSV has one row per point:
+model); stable is Hill's verdict where xi = 0 (a conservative model: stable only when
+every exponent but the phase's zero one is on the imaginary axis) and null where xi != 0
+(the point is not a motion of the model). The CSV has one row per point:
 omega,damping,xi,amplitude,<out>_max_abs,<out>_mean,<out>_amp1,...";
 
 const CYCLE_AFTER_HELP: &str = "\

@@ -443,48 +443,14 @@ fn backbone_overlays(
     curve: &Curve,
     range: (f64, f64),
 ) -> (Vec<report::Overlay>, Vec<String>) {
-    let mut warnings = Vec::new();
-    let tops: Vec<f64> = (0..curve.output_names.len())
-        .map(|i| {
-            curve
-                .points
-                .iter()
-                .filter_map(|p| p.outputs.get(i).map(|o| o.max_abs))
-                .filter(|v| v.is_finite())
-                .fold(0.0f64, f64::max)
-        })
-        .collect();
-    let mut overlays = Vec::new();
+    let tops = crate::engine::largest_amplitudes([curve], curve.output_names.len());
     let found = model.sweep_backbones(range, &tops, curve.harmonics);
+    let (overlays, mut warnings) = crate::engine::backbone_overlays(&found, &curve.output_names);
     if found.is_empty() {
-        warnings
-            .push("no mode's linear natural frequency lies in the range: no backbone drawn".into());
-    }
-    for sb in found {
-        let name = curve.output_names.get(sb.output).cloned().unwrap_or_default();
-        match sb.backbone {
-            Ok(b) => {
-                if b.ended != BackboneEnd::Reached {
-                    warnings.push(format!(
-                        "the backbone of mode {} on {name} {} (drawn as far as it went)",
-                        sb.mode, b.ended
-                    ));
-                }
-                overlays.push(report::Overlay {
-                    label: format!("backbone, mode {}", sb.mode),
-                    output: name.clone(),
-                    points: b
-                        .points
-                        .iter()
-                        .filter_map(|p| p.outputs.get(sb.output).map(|o| (p.omega, o.max_abs)))
-                        .collect(),
-                    tag: format!("backbone mode {} {name}", sb.mode),
-                });
-            }
-            Err(e) => {
-                warnings.push(format!("no backbone of mode {} on {name}: {e}", sb.mode));
-            }
-        }
+        warnings.insert(
+            0,
+            "no mode's linear natural frequency lies in the range: no backbone drawn".into(),
+        );
     }
     (overlays, warnings)
 }

@@ -4,13 +4,14 @@
 //! ([`settings`]) and the progress display ([`progress`]); above it, [`crate::study`]
 //! and the command line. Nothing here imports either.
 
-use crate::backbone::{Backbone, BackboneOptions};
+use crate::backbone::{Backbone, BackboneEnd, BackboneOptions};
 use crate::balance::Balance;
 use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
 use crate::continuation::{self, Observer};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::report::Overlay;
 use crate::results::{Curve, SimOutput, SimRecord, SolveRecord, Stability, Unknown};
 use crate::stability::{Hill, StabilityOptions};
 use crate::timedomain::{self, CompareRow, Scheme, SimOptions};
@@ -324,6 +325,62 @@ pub fn sweep_backbones<M: Model>(
         }
     }
     out
+}
+
+/// The largest finite `max |x|` of every output (in model order) over `curves`: how
+/// far a figure's backbones are continued ([`sweep_backbones`]'s `tops`).
+pub fn largest_amplitudes<'a>(
+    curves: impl IntoIterator<Item = &'a Curve>,
+    outputs: usize,
+) -> Vec<f64> {
+    let mut tops = vec![0.0f64; outputs];
+    for c in curves {
+        for p in &c.points {
+            for (t, o) in tops.iter_mut().zip(&p.outputs) {
+                if o.max_abs.is_finite() {
+                    *t = t.max(o.max_abs);
+                }
+            }
+        }
+    }
+    tops
+}
+
+/// The backbones of [`sweep_backbones`] as overlays of a figure (on the panel of the
+/// output each was continued in, its `(ω, max |x|)` points), with a warning for each
+/// that stopped short of its amplitude (drawn as far as it went) or could not start.
+/// `output_names` are the model's, in order.
+pub fn backbone_overlays(
+    found: &[SweepBackbone],
+    output_names: &[String],
+) -> (Vec<Overlay>, Vec<String>) {
+    let mut overlays = Vec::new();
+    let mut warnings = Vec::new();
+    for sb in found {
+        let name = output_names.get(sb.output).cloned().unwrap_or_default();
+        match &sb.backbone {
+            Ok(b) => {
+                if b.ended != BackboneEnd::Reached {
+                    warnings.push(format!(
+                        "the backbone of mode {} on {name} {} (drawn as far as it went)",
+                        sb.mode, b.ended
+                    ));
+                }
+                overlays.push(Overlay {
+                    label: format!("backbone, mode {}", sb.mode),
+                    output: name.clone(),
+                    points: b
+                        .points
+                        .iter()
+                        .filter_map(|p| p.outputs.get(sb.output).map(|o| (p.omega, o.max_abs)))
+                        .collect(),
+                    tag: format!("backbone mode {} {name}", sb.mode),
+                });
+            }
+            Err(e) => warnings.push(format!("no backbone of mode {} on {name}: {e}", sb.mode)),
+        }
+    }
+    (overlays, warnings)
 }
 
 /// Integrate from rest and report the steady statistics of every output.

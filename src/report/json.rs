@@ -171,14 +171,15 @@ pub fn folds_json(f: &FoldCurves) -> Value {
 /// also with `xi` (the artificial damping of `-ξ M ẋ`) and `amplitude` (the modal
 /// amplitude), and `output`, `to`, `linear` (the start's `omega` and `damping`),
 /// `events` (`[{kind: "turn" | "internal-resonance", omega, amplitude, ratio: "k:1"
-/// or null, mode: the other mode or null, after}]`) and `ended`. `stable` is `null`:
-/// the stability of a mode is not checked.
+/// or null, mode: the other mode or null, after}]`) and `ended`. `stable` is Hill's
+/// verdict where ξ = 0 (a conservative model) and `null` where ξ ≠ 0, where the point
+/// is not a motion of the model ([`crate::backbone::ModePoint::stability`]).
 pub fn backbone_json(b: &Backbone) -> Value {
     let points: Vec<Value> = b
         .points
         .iter()
         .map(|p| {
-            json!({ "omega": p.omega, "damping": p.damping, "stable": Value::Null,
+            json!({ "omega": p.omega, "damping": p.damping, "stable": p.stability.verdict(),
                     "xi": p.xi, "amplitude": p.amplitude,
                     "outputs": point_outputs(&b.output_names, &p.outputs) })
         })

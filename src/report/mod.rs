@@ -20,8 +20,8 @@ pub use json::{
     backbone_json, cycle_json, cycles_json, folds_json, simulate_json, solve_json, sweep_json,
 };
 pub use plot::{
-    backbone_svg, cycles_svg, figure_svg, figure_svg_with, folds_svg, folds_svg_family, trend_svg,
-    Figure, Overlay, Panel, Series, TimeMarker,
+    backbone_svg, cycles_svg, figure_svg, figure_svg_modes, figure_svg_with, folds_svg,
+    folds_svg_family, trend_svg, Figure, Overlay, Panel, Series, TimeMarker,
 };
 pub use summary::{convergence_line, curve_facts, CurveFacts};
 

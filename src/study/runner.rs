@@ -2,13 +2,13 @@
 //! job (in parallel), then the files of every figure from whatever finished.
 
 use super::claims::{fmt_num, Member, TdRow};
-use super::spec::Study;
+use super::spec::{BackboneSpec, Study};
 use super::summary::{self, FigureResult, FoldMember};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
-use crate::engine::{FoldRange, SimSettings, SweepSettings};
+use crate::engine::{FoldRange, SimSettings, SweepBackbone, SweepSettings};
 use crate::error::{Error, Result};
 use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
 use crate::results::Curve;
@@ -56,6 +56,25 @@ struct FigurePlan {
     curves: Vec<CurvePlan>,
     td_model: Box<dyn AnyModel>,
     td: Vec<TdPlan>,
+    /// The backbones drawn over the curves (of `td_model`: the figure's model).
+    backbone: Option<BackboneSpec>,
+}
+
+impl FigurePlan {
+    /// The stem of the files of the backbone of `mode` continued in `output`.
+    fn backbone_stem(&self, mode: usize, output: &str) -> String {
+        format!("{}_backbone{mode}_{output}", self.id)
+    }
+
+    /// The modes whose backbones may be drawn: those listed, or (for `true`) every
+    /// mode of the model, of which those in the frequency range are.
+    fn backbone_modes(&self) -> Vec<usize> {
+        match self.backbone.as_ref().map(BackboneSpec::modes) {
+            None => Vec::new(),
+            Some(Some(m)) => m.to_vec(),
+            Some(None) => (1..=self.td_model.dofs().len()).collect(),
+        }
+    }
 }
 
 /// One parallel job: a curve, or a harmonic-balance/time-integration comparison.
@@ -78,6 +97,8 @@ struct Finished {
     curves: Vec<Option<Curve>>,
     folds: Vec<Option<FoldCurves>>,
     rows: Vec<Option<CompareRow>>,
+    /// The backbones over the curves (empty without `backbone`).
+    backbones: Vec<SweepBackbone>,
     seconds: f64,
 }
 
@@ -147,12 +168,14 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
             curves,
             td_model: model,
             td,
+            backbone: fig.backbone.as_ref().map(|b| b.get_ref().clone()),
         });
     }
     Ok(plans)
 }
 
-/// The file names a run of `study` writes (in its output directory), each with the
+/// The file names a run of `study` may write (in its output directory; a figure
+/// with `backbone = true` writes those of the modes in its range), each with the
 /// part it belongs to. Two parts on one name would overwrite each other: that is an
 /// error naming both (for example `values = [0.1, 0.1000001]`, equal in file names,
 /// or a figure `f1_F_1` beside figure `f1` varying `F` over 1).
@@ -167,6 +190,13 @@ pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
         }
         if !p.td.is_empty() {
             files.push((format!("{}_timedomain.csv", p.id), format!("figure '{}'", p.id)));
+        }
+        for k in p.backbone_modes() {
+            for o in &p.outputs {
+                let part = format!("figure '{}', the backbone of mode {k} on {o}", p.id);
+                files.push((format!("{}.csv", p.backbone_stem(k, o)), part.clone()));
+                files.push((format!("{}.json", p.backbone_stem(k, o)), part));
+            }
         }
         if p.folds.is_some() && p.curves.len() > 1 {
             files.push((format!("{}_cusps.svg", p.id), format!("figure '{}'", p.id)));
@@ -195,7 +225,8 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
     std::fs::create_dir_all(dir)
         .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
     let mut out = StudyOutcome::default();
-    let finished = run_jobs(&plans, &mut out.failures);
+    let mut finished = run_jobs(&plans, &mut out.failures);
+    backbones(&plans, &mut finished);
     let mut results = Vec::new();
     for (f, (p, done)) in plans.iter().zip(&finished).enumerate() {
         results.push(write_figure(study, f, p, done, dir, &mut out));
@@ -256,6 +287,7 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
             curves: p.curves.iter().map(|_| None).collect(),
             folds: p.curves.iter().map(|_| None).collect(),
             rows: p.td.iter().map(|_| None).collect(),
+            backbones: Vec::new(),
             seconds: 0.0,
         })
         .collect();
@@ -296,6 +328,46 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
         }
     }
     finished
+}
+
+/// The backbones of every figure that asks for them, in parallel over figures: of
+/// the figure's model, each mode continued in each panel's output to the largest
+/// amplitude of it on the finished curves ([`crate::engine::sweep_backbones`]).
+fn backbones(plans: &[FigurePlan], finished: &mut [Finished]) {
+    let found: Vec<(Vec<SweepBackbone>, f64)> = plans
+        .par_iter()
+        .zip(finished.par_iter())
+        .map(|(p, done)| {
+            let Some(spec) = &p.backbone else { return (Vec::new(), 0.0) };
+            let t = Instant::now();
+            let m = p.td_model.as_ref();
+            let names: Vec<&str> = m.outputs().iter().map(|o| &*o.name).collect();
+            let mut tops =
+                crate::engine::largest_amplitudes(done.curves.iter().flatten(), names.len());
+            for (t, n) in tops.iter_mut().zip(&names) {
+                if !p.outputs.iter().any(|o| o == n) {
+                    *t = 0.0; // not on a panel: not continued
+                }
+            }
+            let (range, keep) = match spec.modes() {
+                None => (p.range, None),
+                Some(modes) => ((0.0, f64::INFINITY), Some(modes)),
+            };
+            let mut found = match keep {
+                Some([]) => Vec::new(),
+                _ => m.sweep_backbones(range, &tops, p.harmonics),
+            };
+            if let Some(keep) = keep {
+                found.retain(|b| keep.contains(&b.mode));
+                found.sort_by_key(|b| keep.iter().position(|&k| k == b.mode));
+            }
+            (found, t.elapsed().as_secs_f64())
+        })
+        .collect();
+    for (done, (b, t)) in finished.iter_mut().zip(found) {
+        done.backbones = b;
+        done.seconds += t;
+    }
 }
 
 /// Write `text` to `dir/name`, recording the file or the failure.
@@ -388,13 +460,65 @@ fn write_figure<'a>(
         series: members.iter().map(|m| Series { label: m.label.clone(), curve: m.curve }).collect(),
         markers,
     };
+    let overlays = write_backbones(p, done, dir, out);
+    let names = p.td_model.outputs();
+    let modes: Vec<(String, &crate::backbone::Backbone)> = done
+        .backbones
+        .iter()
+        .filter_map(|sb| {
+            let b = sb.backbone.as_ref().ok()?;
+            Some((format!("mode {}, max |{}|", sb.mode, names.get(sb.output)?.name), b))
+        })
+        .collect();
     if members.is_empty() && td_rows.is_empty() {
         out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
     } else {
-        write_svg(dir, format!("{}.svg", p.id), report::figure_svg(&fig), &p.id, out);
+        let svg = report::figure_svg_modes(&fig, &overlays, &modes, p.range);
+        write_svg(dir, format!("{}.svg", p.id), svg, &p.id, out);
     }
     out.figure_seconds.push((p.id.clone(), done.seconds));
-    FigureResult { members, td_rows, ..result(study, f, p, &done.curves, done.seconds) }
+    FigureResult {
+        members,
+        td_rows,
+        backbones: done.backbones.iter().collect(),
+        ..result(study, f, p, &done.curves, done.seconds)
+    }
+}
+
+/// The CSV and JSON of every backbone of a figure, and the overlays that draw them;
+/// a backbone that could not start or stopped short is a failed part (drawn as far
+/// as it went).
+fn write_backbones(
+    p: &FigurePlan,
+    done: &Finished,
+    dir: &Path,
+    out: &mut StudyOutcome,
+) -> Vec<report::Overlay> {
+    if p.backbone.is_none() {
+        return Vec::new();
+    }
+    let names: Vec<String> = p.td_model.outputs().iter().map(|o| o.name.to_string()).collect();
+    for sb in &done.backbones {
+        if let (Ok(b), Some(o)) = (&sb.backbone, names.get(sb.output)) {
+            let stem = p.backbone_stem(sb.mode, o);
+            write(dir, format!("{stem}.csv"), &report::backbone_csv(b), out);
+            let json = serde_json::to_string_pretty(&report::backbone_json(b)).unwrap_or_default();
+            write(dir, format!("{stem}.json"), &json, out);
+        }
+    }
+    let (overlays, warnings) = crate::engine::backbone_overlays(&done.backbones, &names);
+    out.failures.extend(warnings.into_iter().map(|w| format!("{}: {w}", p.id)));
+    if done.backbones.is_empty() && !p.backbone_modes().is_empty() {
+        let why = if done.curves.iter().all(Option::is_none) {
+            "no curve finished to take the amplitudes from"
+        } else if p.backbone.as_ref().and_then(BackboneSpec::modes).is_some() {
+            "the modes asked for have no oscillatory linear mode to start from"
+        } else {
+            "no mode's linear natural frequency lies in the range"
+        };
+        out.failures.push(format!("{}: {why}: no backbone drawn", p.id));
+    }
+    overlays
 }
 
 /// The result of figure `f` for the summary, with nothing finished in it yet but the
@@ -422,6 +546,7 @@ fn result<'a, T>(
             .collect(),
         td_rows: Vec::new(),
         folds: Vec::new(),
+        backbones: Vec::new(),
         seconds,
     }
 }

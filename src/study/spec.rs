@@ -32,6 +32,9 @@
 //! # analysis per value of `vary`; no checks or timedomain):
 //! # folds = { param = "F", from = 0.005, to = 0.2 }
 //! # (boundary = "period-doubling" or "torus" in it follows those points instead)
+//! backbone = { modes = [1, 2] }  # nonlinear modes over the curves (`true`: every
+//! #                              # mode in the frequency range), each continued in a
+//! #                              # panel's output to the figure's largest amplitude
 //!
 //! [[figure.check]]               # a claim checked against the curves
 //! kind = "peak_omega"            # peak | peak_omega | folds | converges | timedomain
@@ -141,9 +144,70 @@ pub struct FigureSpec {
     /// Fold curves in the plane of Ω and a parameter instead of amplitude–frequency
     /// curves (one analysis per value of `vary`).
     pub folds: Option<FoldSpec>,
+    /// Backbones drawn over the amplitude–frequency curves, each continued in a
+    /// panel's output to the figure's largest amplitude of it (as `sweep --backbone`).
+    pub backbone: Option<Spanned<BackboneSpec>>,
     /// Claims checked against the results.
     #[serde(default, rename = "check")]
     pub checks: Vec<CheckSpec>,
+}
+
+/// Which backbones a figure draws: `backbone = true` (every mode whose linear
+/// natural frequency lies in the figure's frequency range), `false` (none), or
+/// `backbone = { modes = [1, 2] }` (those modes, drawn where they are in the range).
+///
+/// They are the backbones of the figure's model with its parameters but not the
+/// varied one, so they belong with a family in a forcing parameter (the forcing is
+/// left out of a mode).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum BackboneSpec {
+    /// Every mode in the frequency range (`true`), or none (`false`).
+    InRange(bool),
+    /// These modes (1-based, in the order of the linearised natural frequencies).
+    Modes(Vec<usize>),
+}
+
+/// The table form, `{ modes = [...] }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BackboneModes {
+    modes: Vec<usize>,
+}
+
+impl<'de> Deserialize<'de> for BackboneSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = BackboneSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("true, false or a table { modes = [1, 2] }")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<BackboneSpec, E> {
+                Ok(BackboneSpec::InRange(v))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                a: A,
+            ) -> Result<BackboneSpec, A::Error> {
+                let t =
+                    BackboneModes::deserialize(serde::de::value::MapAccessDeserializer::new(a))?;
+                Ok(BackboneSpec::Modes(t.modes))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl BackboneSpec {
+    /// The modes asked for by number (`None`: those in the frequency range; empty:
+    /// none).
+    pub fn modes(&self) -> Option<&[usize]> {
+        match self {
+            BackboneSpec::InRange(true) => None,
+            BackboneSpec::InRange(false) => Some(&[]),
+            BackboneSpec::Modes(m) => Some(m),
+        }
+    }
 }
 
 /// A two-parameter fold analysis: the folds of the Ω-curves at both ends of the
@@ -449,6 +513,9 @@ impl Study {
                     ));
                 }
             }
+            if let Some(b) = &fig.backbone {
+                self.check_backbone(fig, b, m.as_ref())?;
+            }
             if let Some(td) = &fig.timedomain {
                 if td.omegas.is_empty() || td.schemes.is_empty() {
                     return Err(self.whole(format!(
@@ -503,6 +570,50 @@ impl Study {
                     return Err(self.whole(format!(
                         "figure '{id}': a 'timedomain' check needs a 'timedomain' table"
                     )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// A figure's `backbone`: not on a fold figure, and modes the model has (at
+    /// least one, none twice).
+    fn check_backbone(
+        &self,
+        fig: &FigureSpec,
+        b: &Spanned<BackboneSpec>,
+        m: &dyn AnyModel,
+    ) -> Result<()> {
+        let id = fig.id.get_ref();
+        if fig.folds.is_some() {
+            return Err(self.at(
+                b.span(),
+                format!("figure '{id}': a 'folds' figure draws no backbones (no amplitude axis)"),
+            ));
+        }
+        if let BackboneSpec::Modes(modes) = b.get_ref() {
+            let ndof = m.dofs().len();
+            if modes.is_empty() {
+                return Err(self.at(
+                    b.span(),
+                    format!("figure '{id}': backbone modes is empty (write backbone = false)"),
+                ));
+            }
+            for (i, &k) in modes.iter().enumerate() {
+                if k == 0 || k > ndof {
+                    return Err(self.at(
+                        b.span(),
+                        format!(
+                            "figure '{id}': backbone mode {k} is not a mode of model '{}' (1 to {ndof}, its DOFs)",
+                            m.name()
+                        ),
+                    ));
+                }
+                if modes[..i].contains(&k) {
+                    return Err(self.at(
+                        b.span(),
+                        format!("figure '{id}': backbone mode {k} is listed twice"),
+                    ));
                 }
             }
         }

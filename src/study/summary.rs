@@ -4,7 +4,9 @@
 use super::claims::{evaluate, Member, TdRow};
 use super::runner::StudyOutcome;
 use super::spec::{FigureSpec, Study};
+use crate::backbone::{Backbone, EventKind};
 use crate::bifurcation::{Boundary, Cusp, FoldCurves, TurnKind};
+use crate::engine::SweepBackbone;
 use crate::report::{convergence_line, curve_facts};
 use std::fmt::Write;
 
@@ -28,6 +30,8 @@ pub struct FigureResult<'a> {
     pub td_rows: Vec<TdRow>,
     /// The analyses of a fold figure that finished.
     pub folds: Vec<FoldMember<'a>>,
+    /// The backbones drawn over the curves (with `backbone`).
+    pub backbones: Vec<&'a SweepBackbone>,
     /// Compute time, s.
     pub seconds: f64,
 }
@@ -104,6 +108,54 @@ fn fold_table(s: &mut String, fig: &FigureResult) {
     s.push('\n');
 }
 
+/// The backbones' table: per backbone its mode, the output it was continued in, the
+/// linearised mode's frequency and damping ratio, both at the largest amplitude
+/// reached, the turns and internal resonances met, and how it ended.
+fn backbone_table(s: &mut String, fig: &FigureResult) {
+    let _ = writeln!(
+        s,
+        "| backbone | output | linear ω (rad/s) | linear D | largest max\\|x\\| | ω there (rad/s) | D there | events | ended |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+    for sb in &fig.backbones {
+        let b: &Backbone = match &sb.backbone {
+            Ok(b) => b,
+            Err(e) => {
+                let _ = writeln!(s, "| mode {} | — | failed: {e} | | | | | | |", sb.mode);
+                continue;
+            }
+        };
+        let out = b.output_names.get(b.output).map_or("", String::as_str);
+        let top = b
+            .points
+            .iter()
+            .filter_map(|p| p.outputs.get(b.output).map(|o| (o.max_abs, p)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        let events = if b.events.is_empty() {
+            "none".to_string()
+        } else {
+            b.events
+                .iter()
+                .map(|e| match e.kind {
+                    EventKind::Turn => format!("turn at ω = {:.4}", e.omega),
+                    EventKind::InternalResonance { mode, ratio } => {
+                        format!("{ratio}:1 with mode {mode} at ω = {:.4}", e.omega)
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        let (a, w, d) =
+            top.map_or((f64::NAN, f64::NAN, f64::NAN), |(a, p)| (a, p.omega, p.damping));
+        let _ = writeln!(
+            s,
+            "| mode {} | {out} | {:.4} | {:.4e} | {a:.4e} | {w:.4} | {d:.4e} | {events} | {} |",
+            b.mode, b.linear.0, b.linear.1, b.ended
+        );
+    }
+    s.push('\n');
+}
+
 /// The Markdown text of `summary.md`.
 pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> String {
     let mut s = String::new();
@@ -175,6 +227,14 @@ pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> Str
             let _ = writeln!(s, "| {l} | — | failed | | | | |");
         }
         s.push('\n');
+        if fig.spec.backbone.is_some() {
+            let _ = writeln!(
+                s,
+                "Backbones (nonlinear modes by EPMC, forcing left out, N = {}): D is the modal damping ratio.\n",
+                fig.harmonics
+            );
+            backbone_table(&mut s, fig);
+        }
         for m in &fig.members {
             if let Some(c) = &m.curve.convergence {
                 let _ = writeln!(s, "- {}: {}", m.label, convergence_line(c));

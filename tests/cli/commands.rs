@@ -694,7 +694,8 @@ fn backbone_writes_contract_json_and_keeps_what_it_traced() {
     let points = v["points"].as_array().unwrap();
     let last = points.last().unwrap();
     assert_eq!(keys(last)[..3], ["omega", "damping", "stable"]);
-    assert!(last["stable"].is_null());
+    // c = 0: a conservative mode, a motion of the model, neutrally stable (Hill)
+    assert_eq!(last["stable"].as_bool(), Some(true));
     assert_eq!(keys(&last["outputs"]["x"]), ["max_abs", "mean", "amp1"]);
     assert!((last["outputs"]["x"]["max_abs"].as_f64().unwrap() - 1.0).abs() < 1e-9);
     // π √2 / (2 K(1/4)), K(1/4) = 1.685750354812596

@@ -128,20 +128,38 @@ pub fn figure_svg(fig: &Figure) -> Result<String, Error> {
 /// [`figure_svg`] with `overlays` drawn over the panels they name, dotted, each with
 /// its legend entry.
 pub fn figure_svg_with(fig: &Figure, overlays: &[Overlay]) -> Result<String, Error> {
+    figure_svg_modes(fig, overlays, &[], (0.0, f64::INFINITY))
+}
+
+/// [`figure_svg_with`] and, under the panels, a row with the frequency and the modal
+/// damping ratio of every backbone in `modes` (label, backbone) against its
+/// amplitude, while its frequency stays in `range` (rad/s): where the forced peaks
+/// lean, and how damped the mode is there.
+pub fn figure_svg_modes(
+    fig: &Figure,
+    overlays: &[Overlay],
+    modes: &[(String, &crate::backbone::Backbone)],
+    range: (f64, f64),
+) -> Result<String, Error> {
     let mut svg = String::new();
     let mut slots = CurveSlots::default();
     {
         let n = fig.panels.len().max(1) as u32;
-        let root =
-            SVGBackend::with_string(&mut svg, (PANEL_W, TITLE_H + n * PANEL_H)).into_drawing_area();
+        let extra = if modes.is_empty() { 0 } else { PANEL_H };
+        let root = SVGBackend::with_string(&mut svg, (PANEL_W, TITLE_H + n * PANEL_H + extra))
+            .into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let (title, body) = root.split_vertically(TITLE_H);
         title
             .draw_text(&fig.title, &("sans-serif", 20).into_font().color(&BLACK), (20, 12))
             .map_err(plot_err)?;
+        let (body, row) = body.split_vertically(n * PANEL_H);
         let areas = body.split_evenly((n as usize, 1));
         for (panel, area) in fig.panels.iter().zip(areas) {
             draw_panel(fig, overlays, panel, &area, &mut slots)?;
+        }
+        if !modes.is_empty() {
+            backbone::draw_modes(&row, modes, range, &OVERLAY_COLORS)?;
         }
         root.present().map_err(plot_err)?;
     }
