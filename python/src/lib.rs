@@ -57,6 +57,13 @@ fn sweep_settings(harmonics: usize, settings: &str) -> PyResult<SweepSettings> {
     Ok(SweepSettings { harmonics, ..s })
 }
 
+/// A keyword (`"bdf2"`, `"torus"`) read by the enum's own `serde` names, as a study
+/// file's value is.
+fn keyword<T: serde::de::DeserializeOwned>(value: &str, what: &str) -> PyResult<T> {
+    serde_json::from_value(serde_json::Value::String(value.to_string()))
+        .map_err(|e| IhbmError::new_err(format!("invalid {what} '{value}': {e}")))
+}
+
 #[pymethods]
 impl NativeModel {
     /// A model from the text of one `oscillator!` body; `origin` names it in errors.
@@ -180,8 +187,7 @@ impl NativeModel {
         let defaults = SimSettings::default();
         let scheme = match scheme {
             None => defaults.scheme,
-            Some(s) => serde_json::from_value(serde_json::Value::String(s.to_string()))
-                .map_err(|e| IhbmError::new_err(format!("invalid scheme '{s}': {e}")))?,
+            Some(s) => keyword(s, "scheme")?,
         };
         let s = SimSettings { dt, periods: periods.unwrap_or(defaults.periods), scheme };
         let rec = py.detach(|| m.simulate(omega, &s)).map_err(py_err)?;
@@ -227,8 +233,7 @@ impl NativeModel {
         let s = sweep_settings(harmonics, settings)?;
         let boundary: Boundary = match boundary {
             None => Boundary::default(),
-            Some(b) => serde_json::from_value(serde_json::Value::String(b.to_string()))
-                .map_err(|e| IhbmError::new_err(format!("invalid boundary '{b}': {e}")))?,
+            Some(b) => keyword(b, "boundary")?,
         };
         let r = FoldRange {
             param,
