@@ -15,6 +15,22 @@ pub struct IterationRecord {
     pub damping: f64,
 }
 
+/// A number as messages show it: plain where that is short, in exponent form for the
+/// very large and the very small (`1e300`, not three hundred digits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0;
+        if v.is_finite() && v != 0.0 && (v.abs() >= 1e7 || v.abs() < 1e-4) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
+    }
+}
+
 /// Everything that can go wrong in ihbm.
 #[derive(Debug, Error)]
 pub enum Error {
@@ -92,7 +108,7 @@ pub enum Error {
     /// A coefficient of the model (a function of parameters and Ω) is NaN or infinite
     /// where the model is evaluated: a square root of a negative number, a logarithm
     /// of a non-positive one, a division by zero.
-    #[error("model '{model}': the coefficient `{term}` is {value} at Ω = {omega} rad/s ({params}); a coefficient must be finite wherever the model is evaluated: choose a frequency range and parameter values where it is defined")]
+    #[error("model '{model}': the coefficient `{term}` is {value} at Ω = {} rad/s ({params}); a coefficient must be finite wherever the model is evaluated: choose a frequency range and parameter values where it is defined", Num(*.omega))]
     NonFiniteCoefficient {
         /// The model's name.
         model: String,
@@ -106,7 +122,7 @@ pub enum Error {
         params: String,
     },
     /// Newton did not converge; the last iterate is kept.
-    #[error("Newton did not converge at omega = {omega} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept")]
+    #[error("Newton did not converge at omega = {} after {iterations} iterations (residual norm {residual_norm:.3e}); last iterate kept", Num(*.omega))]
     NotConverged {
         omega: f64,
         iterations: usize,
@@ -116,7 +132,7 @@ pub enum Error {
         history: Vec<IterationRecord>,
     },
     /// The Jacobian could not be factorised.
-    #[error("singular Jacobian at omega = {omega}: {detail}")]
+    #[error("singular Jacobian at omega = {}: {detail}", Num(*.omega))]
     SingularJacobian { omega: f64, detail: String },
     /// A time integration blew up.
     #[error("time integration diverged at t = {time} s: {detail}")]

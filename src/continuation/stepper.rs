@@ -432,7 +432,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let y0 = match self.start_point(lam0) {
             Ok(y) => y,
             Err(why) => {
-                let why = format!("no solution at the start {lam0}: {why}");
+                let why = format!("no solution at the start {}: {why}", crate::error::Num(lam0));
                 return self.end_segment(seg, SegmentEnd::Stalled(why));
             }
         };

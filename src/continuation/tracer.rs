@@ -200,7 +200,10 @@ impl<'m, M: Model> Tracer<'m, M> {
         }
         let pivots = self.lu.factor();
         if pivots.is_nan() || pivots <= 1e-15 {
-            return Err(format!("singular bordered Jacobian at Ω = {:.6}", self.omega(y)));
+            return Err(format!(
+                "singular bordered Jacobian at Ω = {}",
+                crate::error::Num(self.omega(y))
+            ));
         }
         self.lu.solve(&mut self.rhs);
         self.apply(y, "Newton step")
