@@ -181,19 +181,22 @@ impl Program {
 }
 
 impl Compiler<'_> {
-    fn push(&mut self, op: Op) -> Arg {
+    /// Append `op`; its register.
+    fn emit(&mut self, op: Op) -> usize {
         self.program.ops.push(op);
-        Arg::Reg(self.program.ops.len() - 1)
+        self.program.ops.len() - 1
+    }
+
+    /// Append `op`; its result as an operand.
+    fn push(&mut self, op: Op) -> Arg {
+        Arg::Reg(self.emit(op))
     }
 
     /// A register holding `a`.
     fn reg(&mut self, a: Arg) -> usize {
         match a {
             Arg::Reg(i) => i,
-            other => match self.push(Op::Lift(other)) {
-                Arg::Reg(i) => i,
-                _ => unreachable!("push returns a register"),
-            },
+            other => self.emit(Op::Lift(other)),
         }
     }
 
