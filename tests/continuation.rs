@@ -12,6 +12,8 @@ mod convergence;
 mod cycle_families;
 #[path = "continuation/duffing.rs"]
 mod duffing;
+#[path = "shared/elliptic.rs"]
+mod elliptic;
 #[path = "continuation/fold_curves.rs"]
 mod fold_curves;
 #[path = "continuation/forced_peaks.rs"]

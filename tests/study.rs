@@ -5,6 +5,8 @@
 
 #[path = "study/backbones.rs"]
 mod backbones;
+#[path = "shared/elliptic.rs"]
+mod elliptic;
 #[path = "study/reference.rs"]
 mod reference;
 #[path = "study/report_files.rs"]

@@ -3,6 +3,7 @@
 //! fractional Duffing's EPMC amplitude equation, and the linear limit of the quarter
 //! car (the damped modes of its linearisation, fractional part included).
 
+use crate::elliptic::duffing_omega;
 use ihbm::backbone::{backbone, BackboneEnd, BackboneOptions};
 use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};
 use num_complex::Complex64;
@@ -10,16 +11,6 @@ use std::f64::consts::PI;
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
-}
-
-/// The complete elliptic integral of the first kind K(m), by the arithmetic–geometric
-/// mean.
-fn ellip_k(m: f64) -> f64 {
-    let (mut a, mut b) = (1.0, (1.0 - m).sqrt());
-    for _ in 0..40 {
-        (a, b) = (0.5 * (a + b), (a * b).sqrt());
-    }
-    PI / (2.0 * a)
 }
 
 /// x'' + x + k3 x³ = 0 with max |x| = a: Ω = π √(1 + k3 a²) / (2 K(m)),
@@ -37,8 +28,7 @@ fn the_undamped_duffing_backbone_is_the_elliptic_closed_form() {
     let mut checked = 0;
     for p in b.points.iter().step_by(3).chain([last]) {
         let a = p.outputs[0].max_abs;
-        let s = model.k3 * a * a;
-        let exact = PI * (1.0 + s).sqrt() / (2.0 * ellip_k(s / (2.0 * (1.0 + s))));
+        let exact = duffing_omega(model.k3, a);
         assert!(rel(p.omega, exact) < 1e-9, "a = {a}: ω = {} vs {exact}", p.omega);
         assert!(p.xi.abs() < 1e-12, "a conservative model has ξ = 0, got {}", p.xi);
         checked += 1;
@@ -129,8 +119,7 @@ fn the_softening_backbone_matches_the_closed_form_and_stops_at_the_separatrix() 
     let mut checked = 0;
     for p in b.points.iter().filter(|p| p.outputs[0].max_abs < 0.8) {
         let a = p.outputs[0].max_abs;
-        let s = model.k3 * a * a;
-        let exact = PI * (1.0 + s).sqrt() / (2.0 * ellip_k(s / (2.0 * (1.0 + s))));
+        let exact = duffing_omega(model.k3, a);
         assert!(rel(p.omega, exact) < 1e-9, "a = {a}: ω = {} vs {exact}", p.omega);
         checked += 1;
     }

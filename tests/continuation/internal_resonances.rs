@@ -3,8 +3,8 @@
 //! frequency is 3.3 (so that the third harmonic of the first mode meets it at
 //! ω = 1.1, well inside the first mode's stiffening from 1 to 1.32 at max |x1| = 1).
 
+use crate::elliptic::duffing_omega;
 use ihbm::backbone::{backbone, BackboneEnd, BackboneOptions, EventKind};
-use std::f64::consts::PI;
 
 ihbm::oscillator! {
     /// x1'' + x1 + k3 x1³ + e (x1 - x2) = 0, x2'' + w2² x2 + e (x2 - x1) = 0.
@@ -26,20 +26,6 @@ ihbm::oscillator! {
         }
         outputs { x1, x2 }
     }
-}
-
-fn ellip_k(m: f64) -> f64 {
-    let (mut a, mut b) = (1.0, (1.0 - m).sqrt());
-    for _ in 0..40 {
-        (a, b) = (0.5 * (a + b), (a * b).sqrt());
-    }
-    PI / (2.0 * a)
-}
-
-/// The exact Duffing backbone ω(a) = π √(1 + k3 a²) / (2 K(m)), m = k3 a² / (2(1 + k3 a²)).
-fn duffing_omega(k3: f64, a: f64) -> f64 {
-    let s = k3 * a * a;
-    PI * (1.0 + s).sqrt() / (2.0 * ellip_k(s / (2.0 * (1.0 + s))))
 }
 
 /// The amplitude where the exact backbone has frequency `w` (bisection).

@@ -3,11 +3,11 @@
 //! amplitude, written and drawn; the reference study's nonlinear-mode figure starts
 //! at the quarter car's linearised damped modes.
 
+use crate::elliptic::duffing_omega;
 use ihbm::models::QuarterCar;
 use ihbm::{study, Cli};
 use num_complex::Complex64;
 use serde_json::Value;
-use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 fn tmp(name: &str) -> PathBuf {
@@ -85,15 +85,6 @@ fn no_mode_in_the_range_is_a_failed_part_and_the_figure_is_kept() {
     assert!(!dir.join("n_backbone1_x.json").exists());
 }
 
-/// The complete elliptic integral of the first kind K(m), by the AGM.
-fn ellip_k(m: f64) -> f64 {
-    let (mut a, mut b) = (1.0, (1.0 - m).sqrt());
-    for _ in 0..40 {
-        (a, b) = (0.5 * (a + b), (a * b).sqrt());
-    }
-    PI / (2.0 * a)
-}
-
 /// The damped Duffing oscillator x'' + c x' + x + x³ = F cos Ωt: EPMC's artificial
 /// damping cancels c ẋ exactly (ξ = c, m = 1), so its mode is the undamped one, the
 /// elliptic closed form Ω = π √(1 + a²) / (2 K(a² / (2(1 + a²)))), with D = c / (2ω).
@@ -134,8 +125,7 @@ fn a_figure_draws_the_backbone_to_its_largest_amplitude() {
     assert!((a_last / top - 1.0).abs() < 1e-9, "continued to {a_last}, the curves' top {top}");
     for p in points {
         let (w, d, a) = (f(&p["omega"]), f(&p["damping"]), f(&p["outputs"]["x"]["max_abs"]));
-        let s2 = a * a;
-        let exact = PI * (1.0 + s2).sqrt() / (2.0 * ellip_k(s2 / (2.0 * (1.0 + s2))));
+        let exact = duffing_omega(1.0, a);
         assert!((w / exact - 1.0).abs() < 1e-8, "a = {a}: ω = {w} vs {exact}");
         assert!((d / (0.1 / (2.0 * w)) - 1.0).abs() < 1e-9, "a = {a}: D = {d}");
         assert!(p["stable"].is_null(), "ξ = c ≠ 0: not a motion of the model");
@@ -150,8 +140,7 @@ fn a_figure_draws_the_backbone_to_its_largest_amplitude() {
         panic!("no backbone row in {summary}");
     });
     // linear ω = 1 and D = c/2 = 0.05; at the top, ω from the closed form
-    let s2 = top * top;
-    let w_top = PI * (1.0 + s2).sqrt() / (2.0 * ellip_k(s2 / (2.0 * (1.0 + s2))));
+    let w_top = duffing_omega(1.0, top);
     for cell in [
         "1.0000".to_string(),
         "5.0000e-2".to_string(),
