@@ -33,25 +33,20 @@ def _pairs(set):
     return [(str(k), float(v)) for k, v in dict(set).items()]
 
 
-def _columns(curve):
-    """NumPy columns named like the CSV's: omega (or the parameter for a parameter
-    sweep), stable (1.0, 0.0, or NaN where no verdict exists), then
-    ``{output}_{statistic}`` for every output and statistic."""
-    points = curve["points"]
-    cols = {"omega": np.array([p["omega"] for p in points], dtype=float)}
-    if points and "param" in points[0]:
-        cols["param"] = np.array([p["param"] for p in points], dtype=float)
-    cols["stable"] = np.array(
-        [np.nan if p["stable"] is None else float(p["stable"]) for p in points], dtype=float
-    )
-    if points:
-        for out, stats in points[0]["outputs"].items():
-            for stat in stats:
-                cols[f"{out}_{stat}"] = np.array(
-                    [np.nan if p["outputs"][out][stat] is None else p["outputs"][out][stat]
-                     for p in points],
-                    dtype=float,
-                )
+def _columns(csv):
+    """NumPy columns from the curve's CSV, named as its header names them (``omega``,
+    or the parameter for a parameter sweep, then ``stable`` as 1.0, 0.0 or NaN where no
+    verdict exists, then ``{output}_{statistic}``)."""
+    lines = csv.splitlines()
+    names = lines[0].split(",")
+    rows = [line.split(",") for line in lines[1:]]
+    stable = {"true": 1.0, "false": 0.0, "": np.nan}
+    cols = {}
+    for j, name in enumerate(names):
+        if name == "stable":
+            cols[name] = np.array([stable[r[j]] for r in rows], dtype=float)
+        else:
+            cols[name] = np.array([float(r[j]) for r in rows], dtype=float)
     return cols
 
 
@@ -113,21 +108,22 @@ class Model:
         """The amplitude–frequency curve from ``omega_from`` to ``omega_to`` (rad/s):
         the ``sweep`` JSON plus ``"columns"``. ``settings`` are the study file's
         ``sweep`` keys (``max_step``, ``stability=False``, ``amplitude_bound="rel:1e3"``, ...)."""
-        text = self._m.sweep(float(omega_from), float(omega_to), int(harmonics), _pairs(set),
-                             json.dumps(settings))
+        text, csv = self._m.sweep(float(omega_from), float(omega_to), int(harmonics),
+                                  _pairs(set), json.dumps(settings))
         curve = json.loads(text)
-        curve["columns"] = _columns(curve)
+        curve["columns"] = _columns(csv)
         return curve
 
     def sweep_param(self, param, value_from, value_to, omega, harmonics=DEFAULT_HARMONICS,
                     set=None, **settings):
         """The response at fixed ``omega`` as parameter ``param`` goes from
-        ``value_from`` to ``value_to``; as :meth:`sweep`."""
-        text = self._m.sweep_param(str(param), float(value_from), float(value_to),
-                                   float(omega), int(harmonics), _pairs(set),
-                                   json.dumps(settings))
+        ``value_from`` to ``value_to``; as :meth:`sweep` (the first column is named
+        after the parameter, as in the CSV)."""
+        text, csv = self._m.sweep_param(str(param), float(value_from), float(value_to),
+                                        float(omega), int(harmonics), _pairs(set),
+                                        json.dumps(settings))
         curve = json.loads(text)
-        curve["columns"] = _columns(curve)
+        curve["columns"] = _columns(csv)
         return curve
 
     def simulate(self, omega, periods=None, dt=None, scheme=None, set=None):

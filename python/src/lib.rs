@@ -49,6 +49,12 @@ fn json_text(v: &serde_json::Value) -> String {
     v.to_string()
 }
 
+/// A curve's sweep JSON and its CSV (whose columns the Python layer turns into NumPy
+/// arrays, so their names have one source).
+fn curve_texts(curve: &ihbm::results::Curve) -> (String, String) {
+    (json_text(&report::sweep_json(curve)), report::curve_csv(curve))
+}
+
 /// Continuation settings from a JSON object (the study file's `sweep` keys).
 fn sweep_settings(harmonics: usize, settings: &str) -> PyResult<SweepSettings> {
     let s: SweepSettings = serde_json::from_str(settings)
@@ -136,7 +142,7 @@ impl NativeModel {
         Ok(json_text(&report::solve_json(&rec)))
     }
 
-    /// The sweep JSON of a frequency sweep.
+    /// The sweep JSON and CSV of a frequency sweep.
     fn sweep(
         &self,
         py: Python<'_>,
@@ -145,14 +151,14 @@ impl NativeModel {
         harmonics: usize,
         set: Vec<(String, f64)>,
         settings: &str,
-    ) -> PyResult<String> {
+    ) -> PyResult<(String, String)> {
         let m = self.configured(&set)?;
         let s = sweep_settings(harmonics, settings)?;
         let curve = py.detach(|| m.sweep(omega_from, omega_to, &s, &mut ())).map_err(py_err)?;
-        Ok(json_text(&report::sweep_json(&curve)))
+        Ok(curve_texts(&curve))
     }
 
-    /// The sweep JSON of a parameter sweep at fixed Ω.
+    /// The sweep JSON and CSV of a parameter sweep at fixed Ω.
     #[allow(clippy::too_many_arguments)]
     fn sweep_param(
         &self,
@@ -164,12 +170,12 @@ impl NativeModel {
         harmonics: usize,
         set: Vec<(String, f64)>,
         settings: &str,
-    ) -> PyResult<String> {
+    ) -> PyResult<(String, String)> {
         let m = self.configured(&set)?;
         let s = sweep_settings(harmonics, settings)?;
         let r = ParamRange { param, from: value_from, to: value_to, omega };
         let curve = py.detach(|| m.sweep_param(&r, &s, &mut ())).map_err(py_err)?;
-        Ok(json_text(&report::sweep_json(&curve)))
+        Ok(curve_texts(&curve))
     }
 
     /// The simulate JSON: time integration from rest.
