@@ -41,6 +41,16 @@ use tape::Program;
 /// is a mistake, refused before it is parsed.
 pub const MAX_TEXT_BYTES: usize = 1 << 20;
 
+/// The error for a text of `len` bytes, over [`MAX_TEXT_BYTES`].
+fn too_large(origin: &str, len: u64) -> Error {
+    Error::ModelText {
+        origin: origin.to_string(),
+        diagnostics: format!(
+            "{origin}: {len} bytes; a model file is at most {MAX_TEXT_BYTES} bytes"
+        ),
+    }
+}
+
 /// A coefficient checked for finiteness: its text and the parameters it reads.
 #[derive(Debug, Clone)]
 struct CheckInfo {
@@ -77,13 +87,7 @@ impl RuntimeModel {
     /// `line:column`.
     pub fn from_text(text: &str, origin: &str) -> Result<RuntimeModel, Error> {
         if text.len() > MAX_TEXT_BYTES {
-            return Err(Error::ModelText {
-                origin: origin.to_string(),
-                diagnostics: format!(
-                    "{origin}: {} bytes; a model file is at most {MAX_TEXT_BYTES} bytes",
-                    text.len()
-                ),
-            });
+            return Err(too_large(origin, text.len() as u64));
         }
         let checked = ihbm_dsl::read(text).map_err(|d| Error::ModelText {
             origin: origin.to_string(),
@@ -144,13 +148,9 @@ impl RuntimeModel {
         let shown = path.display().to_string();
         let io = |source| Error::Io { path: shown.clone(), source };
         let len = std::fs::metadata(path).map_err(io)?.len();
+        // refused before it is read, not only before it is parsed
         if len > MAX_TEXT_BYTES as u64 {
-            return Err(Error::ModelText {
-                origin: shown.clone(),
-                diagnostics: format!(
-                    "{shown}: {len} bytes; a model file is at most {MAX_TEXT_BYTES} bytes"
-                ),
-            });
+            return Err(too_large(&shown, len));
         }
         let bytes = std::fs::read(path).map_err(io)?;
         let text = String::from_utf8(bytes).map_err(|e| {
