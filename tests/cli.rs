@@ -9,6 +9,8 @@ mod commands;
 mod common;
 #[path = "cli/continuation.rs"]
 mod continuation;
+#[path = "cli/interrupt.rs"]
+mod interrupt;
 #[path = "cli/model_files.rs"]
 mod model_files;
 #[path = "shared/model_text.rs"]

@@ -668,7 +668,8 @@ fn run(
             )));
         }
     }
-    let outcome = study::run(&spec, reg, dir).map_err(Failure::failed)?;
+    let stop = interrupt_flag();
+    let outcome = study::run_until(&spec, reg, dir, &stop).map_err(Failure::failed)?;
     w(
         out,
         format_args!(
@@ -682,12 +683,23 @@ fn run(
     for f in &outcome.files {
         w(out, format_args!("  {}\n", f.display()))?;
     }
+    for f in &outcome.failures {
+        w(out, format_args!("FAILED: {f}\n"))?;
+    }
+    if outcome.interrupted {
+        return Err(Failure {
+            code: super::EXIT_INTERRUPTED,
+            message: format!(
+                "interrupted: {} part(s) did not finish; everything finished was written to {} \
+                 (summary.md names what is missing)",
+                outcome.unfinished.len(),
+                dir.display()
+            ),
+        });
+    }
     if outcome.failures.is_empty() {
         Ok(())
     } else {
-        for f in &outcome.failures {
-            w(out, format_args!("FAILED: {f}\n"))?;
-        }
         Err(Failure::failed(format!(
             "{} part(s) of the study failed (first: {}); everything finished was written to {}",
             outcome.failures.len(),
@@ -695,4 +707,23 @@ fn run(
             dir.display()
         )))
     }
+}
+
+/// A flag the first SIGINT or SIGTERM sets (the study then stops and writes what
+/// finished); a second one ends the process at once with [`super::EXIT_INTERRUPTED`].
+/// Where the handlers cannot be installed the flag is never set and signals keep
+/// their default effect.
+fn interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    for sig in [SIGINT, SIGTERM] {
+        // The conditional shutdown first: it acts only once the flag is already set.
+        let _ = signal_hook::flag::register_conditional_shutdown(
+            sig,
+            i32::from(super::EXIT_INTERRUPTED),
+            std::sync::Arc::clone(&flag),
+        );
+        let _ = signal_hook::flag::register(sig, std::sync::Arc::clone(&flag));
+    }
+    flag
 }

@@ -4,7 +4,9 @@
 //! Exit status: 0 on success; 2 for bad input (unknown model or parameter, a value
 //! that does not parse or is out of range, a malformed study file); 1 when the
 //! computation itself failed (a solve that did not converge — its JSON is still
-//! written — or a study with failed parts, whose finished parts are still written).
+//! written — or a study with failed parts, whose finished parts are still written);
+//! 130 when a study was interrupted (SIGINT or SIGTERM: what finished is written and
+//! `summary.md` names the parts that did not; a second signal ends it at once).
 //! Every failure prints one line `error: ...` on standard error.
 
 mod args;
@@ -21,6 +23,10 @@ use std::process::ExitCode;
 pub const EXIT_USAGE: u8 = 2;
 /// Exit status for a computation that failed (non-converged solve, failed study parts).
 pub const EXIT_FAILED: u8 = 1;
+
+/// Exit status of a study cut short by SIGINT or SIGTERM (128 + SIGINT, as shells
+/// report a process the signal ended).
+pub const EXIT_INTERRUPTED: u8 = 130;
 
 /// A failure of one command: the one-line reason and the exit status.
 #[derive(Debug)]

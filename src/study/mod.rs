@@ -15,7 +15,7 @@ pub mod runner;
 pub mod spec;
 pub mod summary;
 
-pub use runner::{output_files, run, StudyOutcome};
+pub use runner::{output_files, run, run_until, StudyOutcome};
 pub use spec::{parse, Study};
 
 /// The reference study of the quarter car (models/reference_study.toml), built in so

@@ -15,6 +15,8 @@ use crate::results::Curve;
 use crate::timedomain::CompareRow;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// What a study run produced.
@@ -29,6 +31,20 @@ pub struct StudyOutcome {
     /// Compute time per figure id, s (summed over its jobs, so more than wall time
     /// when jobs ran in parallel).
     pub figure_seconds: Vec<(String, f64)>,
+    /// Whether the run was cut short ([`run_until`]'s flag was set).
+    pub interrupted: bool,
+    /// The parts an interruption left unfinished: not started, or stopped part way
+    /// (what they had computed is written).
+    pub unfinished: Vec<String>,
+}
+
+impl StudyOutcome {
+    /// Record the files and failures of `other` after ours.
+    fn append(&mut self, other: StudyOutcome) {
+        self.files.extend(other.files);
+        self.failures.extend(other.failures);
+        self.unfinished.extend(other.unfinished);
+    }
 }
 
 struct CurvePlan {
@@ -90,6 +106,8 @@ enum Done {
     Curve(Result<Box<Curve>>),
     Folds(Result<Box<FoldCurves>>),
     Compare(CompareRow),
+    /// Not started: the run was interrupted first.
+    Skipped,
 }
 
 /// What the jobs of one figure produced.
@@ -219,14 +237,33 @@ pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
 /// and a sweep JSON, per figure an SVG (and a time-domain CSV), and `summary.md`.
 /// Failed parts are listed in the outcome and in `summary.md`; the rest is written.
 pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
+    run_until(study, reg, dir, &AtomicBool::new(false))
+}
+
+/// [`run`], cut short when `stop` is set (by a signal handler, say): no part starts
+/// after that, running continuations stop at their next point, and the figures and
+/// `summary.md` are written from whatever finished, the summary naming the parts
+/// left unfinished. Each curve's CSV and JSON are written as soon as it finishes,
+/// and until the run ends `summary.md` says that it has not finished and which
+/// parts have, so a run killed outright leaves no summary of an earlier run behind.
+pub fn run_until(
+    study: &Study,
+    reg: &Registry,
+    dir: &Path,
+    stop: &AtomicBool,
+) -> Result<StudyOutcome> {
     let start = Instant::now();
     output_files(study, reg)?;
     let plans = plan(study, reg)?;
     std::fs::create_dir_all(dir)
         .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
     let mut out = StudyOutcome::default();
-    let mut finished = run_jobs(&plans, &mut out.failures);
-    backbones(&plans, &mut finished);
+    let log = RunLog::start(study, dir, &mut out);
+    let mut finished = run_jobs(&plans, dir, stop, &log, &mut out);
+    if !stop.load(Ordering::Relaxed) {
+        backbones(&plans, &mut finished);
+    }
+    out.interrupted = stop.load(Ordering::Relaxed);
     let mut results = Vec::new();
     for (f, (p, done)) in plans.iter().zip(&finished).enumerate() {
         results.push(write_figure(study, f, p, done, dir, &mut out));
@@ -237,8 +274,59 @@ pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
     Ok(out)
 }
 
+/// `summary.md` while a run is under way: that it has not finished, and the parts
+/// that have (rewritten as each finishes).
+struct RunLog<'a> {
+    dir: &'a Path,
+    title: String,
+    done: Mutex<Vec<String>>,
+}
+
+impl<'a> RunLog<'a> {
+    fn start(study: &Study, dir: &'a Path, out: &mut StudyOutcome) -> Self {
+        let log = RunLog {
+            dir,
+            title: study.title.clone().unwrap_or_else(|| "Study".into()),
+            done: Mutex::new(Vec::new()),
+        };
+        if let Err(e) = report::write_file(&dir.join("summary.md"), &log.text(&[])) {
+            out.failures.push(e.to_string());
+        }
+        log
+    }
+
+    fn text(&self, done: &[String]) -> String {
+        let mut s = format!(
+            "# {} (not finished)\n\nThis run has not finished: it is still running, or it was \
+             cut short before it could write its summary. The files of the parts listed here \
+             are from this run; any other file in this directory is from an earlier one.\n\n\
+             Finished so far ({}):\n\n",
+            self.title,
+            done.len()
+        );
+        for d in done {
+            s.push_str(&format!("- {d}\n"));
+        }
+        s
+    }
+
+    /// Record `part` as finished (a failure to rewrite the file only costs the note).
+    fn finished(&self, part: String) {
+        let Ok(mut done) = self.done.lock() else { return };
+        done.push(part);
+        let _ = report::write_file(&self.dir.join("summary.md"), &self.text(&done));
+    }
+}
+
 /// Every curve and comparison of every figure, in parallel; failures named by part.
-fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
+/// A curve's or fold analysis's files are written as soon as it finishes.
+fn run_jobs(
+    plans: &[FigurePlan],
+    dir: &Path,
+    stop: &AtomicBool,
+    log: &RunLog,
+    out: &mut StudyOutcome,
+) -> Vec<Finished> {
     let mut jobs = Vec::new();
     for (f, p) in plans.iter().enumerate() {
         if p.folds.is_some() {
@@ -248,17 +336,34 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
         }
         jobs.extend((0..p.td.len()).map(|k| Job::Compare(f, k)));
     }
+    let stopped = || stop.load(Ordering::Relaxed);
     let pb = progress::bar(jobs.len() as u64, "curves and time-domain points");
-    let done: Vec<(Done, f64)> = jobs
+    let done: Vec<(Done, f64, StudyOutcome)> = jobs
         .par_iter()
         .map(|&job| {
             let t = Instant::now();
+            let mut written = StudyOutcome::default();
+            if stopped() {
+                return (Done::Skipped, 0.0, written);
+            }
             let r = match job {
                 Job::Curve(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let mut watch = progress::CurveProgress::new(pb.clone(), c.model.name());
+                    let mut bar = progress::CurveProgress::new(pb.clone(), c.model.name());
+                    let mut watch =
+                        |e: &crate::continuation::Event, tr: &crate::continuation::Trace| {
+                            if stopped() {
+                                Control::Stop
+                            } else {
+                                crate::continuation::Observer::observe(&mut bar, e, tr)
+                            }
+                        };
                     let (lo, hi) = p.range;
-                    Done::Curve(c.model.sweep(lo, hi, &c.sweep, &mut watch).map(Box::new))
+                    let r = c.model.sweep(lo, hi, &c.sweep, &mut watch);
+                    if let Ok(curve) = &r {
+                        write_curve(dir, &c.stem, curve, &mut written);
+                    }
+                    Done::Curve(r.map(Box::new))
                 }
                 Job::Folds(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
@@ -266,18 +371,41 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
                     let range = FoldRange { param: &param, from, to, omega: p.range, boundary };
                     let label = format!("{}: {boundary} curves, {}", p.id, c.label);
                     let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
+                        if stopped() {
+                            return Control::Stop;
+                        }
                         pb.set_message(progress::fold_message(&label, e, fc));
                         Control::Continue
                     };
-                    Done::Folds(c.model.fold_curves(&range, &c.sweep, &mut watch).map(Box::new))
+                    let r = c.model.fold_curves(&range, &c.sweep, &mut watch);
+                    if let Ok(folds) = &r {
+                        write(
+                            dir,
+                            format!("{}.csv", c.stem),
+                            &report::folds_csv(folds),
+                            &mut written,
+                        );
+                        let json = serde_json::to_string_pretty(&report::folds_json(folds))
+                            .unwrap_or_default();
+                        write(dir, format!("{}.json", c.stem), &json, &mut written);
+                    }
+                    Done::Folds(r.map(Box::new))
                 }
                 Job::Compare(f, k) => {
                     let (p, td) = (&plans[f], &plans[f].td[k]);
                     Done::Compare(p.td_model.compare(td.omega, &td.sim, p.harmonics))
                 }
             };
+            // A part the interruption cut short is unfinished, though what it
+            // computed is kept.
+            let part = part_name(plans, job);
+            if stopped() && !matches!(r, Done::Compare(_)) {
+                written.unfinished.push(format!("{part}: stopped part way (interrupted)"));
+            } else {
+                log.finished(part);
+            }
             pb.inc(1);
-            (r, t.elapsed().as_secs_f64())
+            (r, t.elapsed().as_secs_f64(), written)
         })
         .collect();
     pb.finish_and_clear();
@@ -291,36 +419,31 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
             seconds: 0.0,
         })
         .collect();
-    for (job, (r, t)) in jobs.into_iter().zip(done) {
+    for (job, (r, t, written)) in jobs.into_iter().zip(done) {
+        out.append(written);
+        let part = || part_name(plans, job);
         match (job, r) {
+            (_, Done::Skipped) => {
+                out.unfinished.push(format!("{}: not started (interrupted)", part()))
+            }
             (Job::Curve(f, k), Done::Curve(r)) => {
                 finished[f].seconds += t;
                 match r {
                     Ok(c) => finished[f].curves[k] = Some(*c),
-                    Err(e) => {
-                        failures.push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label))
-                    }
+                    Err(e) => out.failures.push(format!("{}: {e}", part())),
                 }
             }
             (Job::Folds(f, k), Done::Folds(r)) => {
                 finished[f].seconds += t;
                 match r {
                     Ok(c) => finished[f].folds[k] = Some(*c),
-                    Err(e) => {
-                        failures.push(format!("{}, {}: {e}", plans[f].id, plans[f].curves[k].label))
-                    }
+                    Err(e) => out.failures.push(format!("{}: {e}", part())),
                 }
             }
             (Job::Compare(f, k), Done::Compare(row)) => {
                 finished[f].seconds += t;
                 if let Some(why) = &row.failure {
-                    let td = &plans[f].td[k];
-                    failures.push(format!(
-                        "{}, time-domain check ({}) at Ω = {}: {why}",
-                        plans[f].id,
-                        td.sim.scheme.name(),
-                        td.omega
-                    ));
+                    out.failures.push(format!("{}: {why}", part()));
                 }
                 finished[f].rows[k] = Some(row);
             }
@@ -328,6 +451,31 @@ fn run_jobs(plans: &[FigurePlan], failures: &mut Vec<String>) -> Vec<Finished> {
         }
     }
     finished
+}
+
+/// How a job is named in failures and in the summary.
+fn part_name(plans: &[FigurePlan], job: Job) -> String {
+    match job {
+        Job::Curve(f, k) | Job::Folds(f, k) => {
+            format!("{}, {}", plans[f].id, plans[f].curves[k].label)
+        }
+        Job::Compare(f, k) => {
+            let td = &plans[f].td[k];
+            format!(
+                "{}, time-domain check ({}) at Ω = {}",
+                plans[f].id,
+                td.sim.scheme.name(),
+                td.omega
+            )
+        }
+    }
+}
+
+/// A finished curve's CSV and sweep JSON.
+fn write_curve(dir: &Path, stem: &str, c: &Curve, out: &mut StudyOutcome) {
+    write(dir, format!("{stem}.csv"), &report::curve_csv(c), out);
+    let json = serde_json::to_string_pretty(&report::sweep_json(c)).unwrap_or_default();
+    write(dir, format!("{stem}.json"), &json, out);
 }
 
 /// The backbones of every figure that asks for them, in parallel over figures: of
@@ -415,9 +563,6 @@ fn write_figure<'a>(
     let mut members = Vec::new();
     for (c, plan) in done.curves.iter().zip(&p.curves) {
         if let Some(c) = c {
-            write(dir, format!("{}.csv", plan.stem), &report::curve_csv(c), out);
-            let json = serde_json::to_string_pretty(&report::sweep_json(c)).unwrap_or_default();
-            write(dir, format!("{}.json", plan.stem), &json, out);
             members.push(Member { label: plan.label.clone(), value: plan.value, curve: c });
         }
     }
@@ -471,7 +616,7 @@ fn write_figure<'a>(
         })
         .collect();
     if members.is_empty() && td_rows.is_empty() {
-        out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
+        nothing_drawn(p, out);
     } else {
         let svg = report::figure_svg_modes(&fig, &overlays, &modes, p.range);
         write_svg(dir, format!("{}.svg", p.id), svg, &p.id, out);
@@ -509,6 +654,10 @@ fn write_backbones(
     let (overlays, warnings) = crate::engine::backbone_overlays(&done.backbones, &names);
     out.failures.extend(warnings.into_iter().map(|w| format!("{}: {w}", p.id)));
     if done.backbones.is_empty() && !p.backbone_modes().is_empty() {
+        if out.interrupted {
+            out.unfinished.push(format!("{}: backbones not computed (interrupted)", p.id));
+            return overlays;
+        }
         let why = if done.curves.iter().all(Option::is_none) {
             "no curve finished to take the amplitudes from"
         } else if p.backbone.as_ref().and_then(BackboneSpec::modes).is_some() {
@@ -551,6 +700,17 @@ fn result<'a, T>(
     }
 }
 
+/// Record a figure none of whose parts finished: a failure, unless an interruption
+/// is the reason.
+fn nothing_drawn(p: &FigurePlan, out: &mut StudyOutcome) {
+    if out.interrupted {
+        out.unfinished
+            .push(format!("{}: no figure drawn (nothing finished before the interruption)", p.id));
+    } else {
+        out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
+    }
+}
+
 /// Write a drawn figure, or record why it could not be drawn.
 fn write_svg(dir: &Path, name: String, svg: Result<String>, id: &str, out: &mut StudyOutcome) {
     match svg {
@@ -573,14 +733,11 @@ fn write_fold_figure<'a>(
     let mut folds = Vec::new();
     for (r, plan) in done.folds.iter().zip(&p.curves) {
         if let Some(r) = r {
-            write(dir, format!("{}.csv", plan.stem), &report::folds_csv(r), out);
-            let json = serde_json::to_string_pretty(&report::folds_json(r)).unwrap_or_default();
-            write(dir, format!("{}.json", plan.stem), &json, out);
             folds.push(FoldMember { label: plan.label.clone(), value: plan.value, folds: r });
         }
     }
     if folds.is_empty() {
-        out.failures.push(format!("{}: nothing finished, no figure drawn", p.id));
+        nothing_drawn(p, out);
     } else {
         let series: Vec<(&str, &FoldCurves)> =
             folds.iter().map(|m| (m.label.as_str(), m.folds)).collect();

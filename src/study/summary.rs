@@ -172,8 +172,22 @@ pub fn markdown(study: &Study, figs: &[FigureResult], out: &StudyOutcome) -> Str
         study.frequency.to,
         out.seconds
     );
+    if out.interrupted {
+        let _ = writeln!(
+            s,
+            "**The run was interrupted**: {} part(s) did not finish (what they had computed \
+             is written, and the figures are drawn from what finished):\n",
+            out.unfinished.len()
+        );
+        for u in &out.unfinished {
+            let _ = writeln!(s, "- {u}");
+        }
+        s.push('\n');
+    }
     if out.failures.is_empty() {
-        let _ = writeln!(s, "Every part of the study finished.\n");
+        if !out.interrupted {
+            let _ = writeln!(s, "Every part of the study finished.\n");
+        }
     } else {
         let _ = writeln!(
             s,

@@ -1,0 +1,109 @@
+//! A study cut short: by SIGINT (what finished is written, the summary names what did
+//! not, exit 130) and by SIGKILL (no file half-written, and the summary of an earlier
+//! run in the same directory does not survive to claim that everything finished).
+
+use crate::common::tmp;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn start_study(dir: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_ihbm"))
+        .args(["run", "--out"])
+        .arg(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the ihbm binary starts")
+}
+
+/// Wait until the run has written the CSV of at least one finished part.
+fn wait_for_a_part(dir: &Path, child: &mut Child) {
+    let t = Instant::now();
+    loop {
+        let csv = std::fs::read_dir(dir).into_iter().flatten().flatten().any(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            name.ends_with(".csv") && !name.contains(".ihbm-tmp")
+        });
+        if csv {
+            return;
+        }
+        assert!(child.try_wait().unwrap().is_none(), "the study ended before any part finished");
+        assert!(t.elapsed() < Duration::from_secs(60), "no part finished within 60 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+fn signal(child: &Child, sig: &str) {
+    let ok = Command::new("kill").args([sig, &child.id().to_string()]).status().unwrap();
+    assert!(ok.success());
+}
+
+/// Every output file is whole: JSON parses, a CSV's rows have its header's width, an
+/// SVG ends its root element, and no temporary file is left.
+fn assert_whole(dir: &Path) {
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let path = e.path();
+        let name = e.file_name().to_string_lossy().into_owned();
+        assert!(!name.contains(".ihbm-tmp"), "temporary file left behind: {name}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        match path.extension().and_then(|x| x.to_str()) {
+            Some("json") => {
+                serde_json::from_str::<serde_json::Value>(&text)
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+            }
+            Some("csv") => {
+                let mut lines = text.lines();
+                let width = lines.next().map_or(0, |h| h.split(',').count());
+                assert!(width > 0 && text.ends_with('\n'), "{name}: no header or cut short");
+                for l in lines {
+                    assert_eq!(l.split(',').count(), width, "{name}: row '{l}'");
+                }
+            }
+            Some("svg") => assert!(text.trim_end().ends_with("</svg>"), "{name}: cut short"),
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn an_interrupted_study_writes_what_finished_and_says_what_did_not() {
+    let dir = tmp("interrupted-study");
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut child = start_study(&dir);
+    wait_for_a_part(&dir, &mut child);
+    signal(&child, "-INT");
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    // The reference study has ~40 parts over several seconds; the signal follows the
+    // first one within milliseconds.
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: interrupted: "), "{err}");
+    assert_whole(&dir);
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("**The run was interrupted**"), "{summary}");
+    assert!(!summary.contains("Every part of the study finished"), "{summary}");
+    assert!(summary.contains("not started (interrupted)"), "{summary}");
+}
+
+#[test]
+fn a_killed_study_leaves_no_earlier_summary_and_no_half_written_file() {
+    let dir = tmp("killed-study");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // An earlier, complete run's summary.
+    std::fs::write(dir.join("summary.md"), "# Study\n\nEvery part of the study finished.\n")
+        .unwrap();
+    let mut child = start_study(&dir);
+    wait_for_a_part(&dir, &mut child);
+    signal(&child, "-KILL");
+    let _ = child.wait();
+    assert_whole(&dir);
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("(not finished)"), "{summary}");
+    assert!(!summary.contains("Every part of the study finished"), "{summary}");
+    // It lists the parts that had finished.
+    let listed: Vec<&str> = summary.lines().filter_map(|l| l.strip_prefix("- ")).collect();
+    assert!(!listed.is_empty(), "{summary}");
+}
