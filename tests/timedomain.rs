@@ -13,3 +13,5 @@ mod hb;
 mod linear;
 #[path = "timedomain/memory.rs"]
 mod memory;
+#[path = "timedomain/memory_bound.rs"]
+mod memory_bound;

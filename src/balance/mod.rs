@@ -23,7 +23,7 @@ use std::f64::consts::FRAC_PI_2;
 
 mod linear;
 mod second;
-mod size;
+pub(crate) mod size;
 mod structure;
 
 pub use linear::linearized_guess;

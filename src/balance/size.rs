@@ -41,7 +41,7 @@ pub fn check_size(ndof: usize, harmonics: usize) -> Result<()> {
 }
 
 /// `1.3 TB`, `4 GiB`-style sizes for messages.
-fn readable_bytes(b: f64) -> String {
+pub(crate) fn readable_bytes(b: f64) -> String {
     const UNITS: [&str; 7] = ["B", "kB", "MB", "GB", "TB", "PB", "EB"];
     let mut v = b;
     let mut u = 0;

@@ -54,6 +54,7 @@
 //! assert!((z1.max_abs / 0.01 - 2.2973).abs() < 0.01);
 //! ```
 
+pub mod budget;
 pub mod compare;
 pub mod memory;
 pub mod newmark;
@@ -66,6 +67,8 @@ pub use newmark::{Stepper, StepperOptions};
 pub use steady::SteadyOutput;
 pub use weights::Scheme;
 
+use crate::balance::size::readable_bytes;
+use crate::balance::MEMORY_LIMIT;
 use crate::error::Error;
 use crate::model::Model;
 use serde::Serialize;
@@ -82,8 +85,10 @@ pub const MIN_STEPS_PER_PERIOD: f64 = 20.0;
 /// drift compares them with the 10 before.
 pub const MIN_PERIODS: usize = 20;
 
-/// Most steps of one run: the fractional memory keeps `O(steps)` values (about 60
-/// bytes per step and fractional signal).
+/// Most steps of one run (at 2 cores about 20 s for the quarter car); the fractional
+/// memory keeps `O(steps)` values, 100–180 bytes per step and fractional signal
+/// ([`estimate_bytes`] counts them and [`simulate`] refuses more than
+/// [`MEMORY_LIMIT`]).
 pub const MAX_STEPS: usize = 20_000_000;
 
 /// Options of [`simulate`].
@@ -164,12 +169,33 @@ fn invalid(what: &str, value: impl ToString, expected: impl Into<String>) -> Err
     Error::InvalidValue { what: what.into(), value: value.to_string(), expected: expected.into() }
 }
 
+/// The memory [`simulate`] takes for `steps` steps of `steps_per_period`, in bytes,
+/// estimated before anything is allocated: each fractional signal's history
+/// ([`History::bytes`]), the last 20 periods of every output, and the whole
+/// trajectory when it is recorded.
+pub fn estimate_bytes<M: Model>(
+    model: &M,
+    steps: usize,
+    steps_per_period: f64,
+    opts: &SimOptions,
+) -> f64 {
+    let fractional =
+        model.signals().iter().filter(|s| matches!(s.order, crate::model::Order::Param(_))).count();
+    let outputs = model.outputs().len() as f64;
+    let cap = steps.saturating_add(1);
+    let tail = (20.0 * steps_per_period).min(cap as f64);
+    let record = if opts.record { (1.0 + outputs) * cap as f64 } else { 0.0 };
+    fractional as f64 * History::bytes(opts.memory, cap) + 8.0 * (outputs * tail + record)
+}
+
 /// Integrate `model` from rest at forcing frequency `omega` (rad/s) and report the
 /// steady statistics of every output over the last 10 periods.
 ///
 /// Errors: `omega <= 0` or not finite, `dt <= 0` or not finite, fewer than
 /// [`MIN_PERIODS`] periods, fewer than [`MIN_STEPS_PER_PERIOD`] steps per period of
-/// the highest forcing harmonic, more than [`MAX_STEPS`] steps, an invalid model
+/// the highest forcing harmonic, more than [`MAX_STEPS`] steps or memory estimated
+/// beyond [`MEMORY_LIMIT`] ([`estimate_bytes`]; with integrations running in other
+/// threads it waits for its share, see [`budget`]), an invalid model
 /// (see [`Model::validate`]); [`Error::Diverged`] with the time if the state stops
 /// being finite or a step's Newton iteration fails.
 pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Simulation, Error> {
@@ -213,6 +239,34 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
         ));
     }
     let steps = steps_f as usize;
+    let bytes = estimate_bytes(model, steps, period / dt, opts);
+    if bytes > MEMORY_LIMIT {
+        // The most periods whose estimate fits (the estimate grows with the steps).
+        let steps_of = |p: usize| (p as f64 * period / dt - 1e-9).ceil() as usize;
+        let (mut lo, mut hi) = (0, opts.periods);
+        while lo + 1 < hi {
+            let mid = lo + (hi - lo) / 2;
+            if estimate_bytes(model, steps_of(mid), period / dt, opts) <= MEMORY_LIMIT {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        return Err(invalid(
+            "time integration",
+            format!(
+                "{steps} steps needing about {} for the fractional memory",
+                readable_bytes(bytes)
+            ),
+            format!(
+                "at most {} (the limit for integrations): at most {lo} periods at this dt, \
+                 or a larger dt",
+                readable_bytes(MEMORY_LIMIT)
+            ),
+        ));
+    }
+    // Parallel integrations (a study's parts) share one budget: wait, not abort.
+    let _held = budget::reserve(bytes);
     let window = (10.0 * period / dt).round() as usize;
     let record_from = steps.saturating_sub(2 * window);
     let step_opts = StepperOptions {
