@@ -464,4 +464,31 @@ pub struct SimRecord {
     pub scheme: String,
     /// Per output, in model output order.
     pub outputs: Vec<SimOutput>,
+    /// The slowest free mode's start-up transient left at the end of the run
+    /// ([`crate::timedomain::StartUp`]).
+    pub start_up: Option<crate::timedomain::StartUp>,
+}
+
+impl SimRecord {
+    /// Why the statistics may still describe the start-up transient, if they may:
+    /// an output that drifts is said by [`SimOutput::steady`]; this is the transient
+    /// too slow to drift between the last windows.
+    pub fn transient_warning(&self) -> Option<String> {
+        let s = self.start_up.filter(|s| s.left > crate::timedomain::StartUp::NEGLIGIBLE)?;
+        let run = self.periods as f64 * std::f64::consts::TAU / self.omega;
+        let periods = s.settling_time() * self.omega / std::f64::consts::TAU;
+        let more = if periods.is_finite() {
+            format!("integrate at least {:.0} periods", periods.ceil())
+        } else {
+            "it is undamped and never decays".to_string()
+        };
+        Some(format!(
+            "the start-up transient may dominate: the slowest free mode at rest (ω = {:.4} rad/s, \
+             decay time {:.3e} s) keeps {:.1} % of its start-up amplitude after the {run:.3e} s \
+             integrated ({more})",
+            s.omega,
+            s.decay_time,
+            100.0 * s.left
+        ))
+    }
 }

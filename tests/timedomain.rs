@@ -15,3 +15,5 @@ mod linear;
 mod memory;
 #[path = "timedomain/memory_bound.rs"]
 mod memory_bound;
+#[path = "timedomain/settling.rs"]
+mod settling;

@@ -37,7 +37,7 @@ mod cycle;
 mod epmc;
 mod family;
 mod hopf;
-mod linear;
+pub(crate) mod linear;
 mod stability;
 
 use crate::balance::Balance;

@@ -212,6 +212,9 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                             format_args!("{:<10} {:>14.6e} {:>14.6e}\n", o.name, o.max_abs, o.mean),
                         )?;
                     }
+                    if let Some(why) = rec.transient_warning() {
+                        w(out, format_args!("warning: {why}\n"))?;
+                    }
                     for o in rec.outputs.iter().filter(|o| !o.steady()) {
                         w(out, format_args!(
                             "warning: {} is not steady: its max_abs changed by {:.1} % between the last two blocks of 10 periods (integrate more --periods)\n",

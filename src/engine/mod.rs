@@ -403,6 +403,7 @@ pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) ->
                 drift: o.drift,
             })
             .collect(),
+        start_up: sim.start_up,
     })
 }
 

@@ -101,7 +101,8 @@ pub fn sweep_json(c: &Curve) -> Value {
 
 /// The JSON of `simulate`: `{model, omega, dt, periods, scheme, outputs: {name:
 /// {max_abs, mean}}}`, each output with `drift` and `steady` added (whether the
-/// last two blocks of 10 periods agree to 1 %: a drifting run has no steady value).
+/// last two blocks of 10 periods agree to 1 %: a drifting run has no steady value),
+/// and `start_up_left` ([`crate::timedomain::StartUp::left`]).
 pub fn simulate_json(r: &SimRecord) -> Value {
     let mut outs = Map::new();
     for o in &r.outputs {
@@ -110,10 +111,16 @@ pub fn simulate_json(r: &SimRecord) -> Value {
             json!({ "max_abs": o.max_abs, "mean": o.mean, "drift": o.drift, "steady": o.steady() }),
         );
     }
-    json!({
+    let mut v = json!({
         "model": r.model, "omega": r.omega, "dt": r.dt, "periods": r.periods,
         "scheme": r.scheme, "outputs": Value::Object(outs),
-    })
+    });
+    // The extension: the slowest free mode's start-up transient left (absent, not
+    // null, for a model without an oscillatory mode at rest).
+    if let (Some(s), Some(m)) = (r.start_up, v.as_object_mut()) {
+        m.insert("start_up_left".into(), json!(s.left));
+    }
+    v
 }
 
 /// The JSON of `folds` (CONTRACT section 3): `{model, harmonics, parameter, curves:

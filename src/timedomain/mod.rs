@@ -58,12 +58,14 @@ pub mod budget;
 pub mod compare;
 pub mod memory;
 pub mod newmark;
+pub mod settling;
 pub mod steady;
 pub mod weights;
 
 pub use compare::{compare, compare_at, CompareOutput, CompareRow};
 pub use memory::{FastHistory, History, Memory, NaiveHistory};
 pub use newmark::{Stepper, StepperOptions};
+pub use settling::StartUp;
 pub use steady::SteadyOutput;
 pub use weights::Scheme;
 
@@ -163,6 +165,9 @@ pub struct Simulation {
     /// Every step's outputs, if requested.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub trajectory: Option<Trajectory>,
+    /// The start-up transient of the slowest-decaying free mode that can be left at
+    /// the end ([`settling::start_up`]; `None` without an oscillatory mode at rest).
+    pub start_up: Option<StartUp>,
 }
 
 fn invalid(what: &str, value: impl ToString, expected: impl Into<String>) -> Error {
@@ -320,5 +325,6 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
         newton_iterations,
         newton_max,
         trajectory: traj,
+        start_up: settling::start_up(model, steps as f64 * dt),
     })
 }

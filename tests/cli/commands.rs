@@ -326,7 +326,8 @@ fn simulate_json_matches_the_contract_and_the_closed_form() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
-    assert_eq!(keys(&v), ["model", "omega", "dt", "periods", "scheme", "outputs"]);
+    // The contract's keys, then the extension: the start-up transient left.
+    assert_eq!(keys(&v), ["model", "omega", "dt", "periods", "scheme", "outputs", "start_up_left"]);
     assert_eq!(v["scheme"], "bdf2");
     assert_eq!(v["periods"].as_u64(), Some(200));
     assert!(v["dt"].as_f64().unwrap() > 0.0);
@@ -419,6 +420,21 @@ fn simulate_flags_a_run_that_is_not_steady() {
     assert_eq!(damped["steady"], true, "{damped}");
     let o = ihbm(&["simulate", "duffing", "--omega", "1.05", "--set", "k3=0", "--set", "c=0"]);
     assert!(stdout(&o).contains("warning: x is not steady"), "{}", stdout(&o));
+}
+
+/// Far above resonance 200 periods are too short for the body mode to decay (its
+/// decay time is 2/ξ with ξ the EPMC damping; see tests/timedomain/settling.rs): the
+/// JSON says how much is left and the table warns; at 10 rad/s nothing is left.
+#[test]
+fn simulate_warns_of_a_transient_too_slow_to_drift() {
+    let o = ihbm(&["simulate", "quarter-car", "--omega", "1e6"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("warning: the start-up transient may dominate"), "{}", stdout(&o));
+    let o = ihbm(&["simulate", "quarter-car", "--omega", "1e6", "--json"]);
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert!(v["start_up_left"].as_f64().unwrap() > 0.99, "{v}");
+    let o = ihbm(&["simulate", "quarter-car", "--omega", "10"]);
+    assert!(!stdout(&o).contains("warning"), "{}", stdout(&o));
 }
 
 /// `folds` (CONTRACT section 3): the JSON's keys, the one-harmonic Duffing's cusp from
