@@ -237,8 +237,12 @@ impl MaxAbs {
 
     /// The largest `|x(θ)|` of `coeffs` (`2N + 1` of them, `N` as in [`MaxAbs::new`];
     /// another count is evaluated with a table of its own, a trailing odd coefficient
-    /// ignored, none gives 0).
+    /// ignored, none gives 0; a NaN coefficient gives NaN and an infinite one
+    /// infinity, never a finite value that hides them).
     pub fn eval(&self, coeffs: &[f64]) -> f64 {
+        if !coeffs.iter().all(|c| c.is_finite()) {
+            return coeffs.iter().map(|c| c.abs()).sum();
+        }
         let n = self.n;
         if coeffs.len() != 2 * n + 1 {
             let other = coeffs.len().saturating_sub(1) / 2;

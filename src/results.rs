@@ -422,6 +422,9 @@ pub struct SolveRecord {
     pub stability: Stability,
     /// Per output, in model output order.
     pub outputs: Vec<OutputSummary>,
+    /// Why Newton could not start, when it could not (a Jacobian singular at the
+    /// start: the record then holds the start, `x = 0`, and its residual).
+    pub failure: Option<String>,
 }
 
 /// Steady statistics of one output of a time integration.

@@ -57,6 +57,8 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             }
             if rec.converged {
                 Ok(())
+            } else if let Some(why) = &rec.failure {
+                Err(Failure::failed(format!("{why}; result written with \"converged\": false")))
             } else {
                 Err(Failure::failed(format!(
                     "Newton did not converge at omega = {} after {} iterations (residual norm {:.3e}); result written with \"converged\": false",

@@ -89,11 +89,21 @@ pub fn solve<M: Model>(
     check_omega("omega", omega)?;
     crate::fourier::check_harmonics(s.harmonics)?;
     let opts = SolveOptions { harmonics: s.harmonics, ..SolveOptions::default() };
+    let mut failure = None;
     let (coeffs, converged, iterations, residual_norm) =
         match corrector::solve(model, omega, &opts, None) {
             Ok(sol) => (sol.coeffs, true, sol.iterations, sol.residual_norm),
             Err(Error::NotConverged { last, iterations, residual_norm, .. }) => {
                 (last, false, iterations, residual_norm)
+            }
+            // Failure as data: the start (x = 0) and its residual are what is known.
+            Err(e @ Error::SingularJacobian { .. }) => {
+                let mut hb = crate::balance::Balance::new(model, s.harmonics)?;
+                let zero = vec![0.0; hb.len()];
+                let mut r = vec![0.0; hb.len()];
+                hb.residual(&zero, omega, &mut r);
+                failure = Some(e.to_string());
+                (zero, false, 0, r.iter().map(|x| x * x).sum::<f64>().sqrt())
             }
             Err(e) => return Err(e),
         };
@@ -107,6 +117,7 @@ pub fn solve<M: Model>(
         residual_norm,
         stability,
         outputs: corrector::output_summaries(model, &coeffs, s.harmonics),
+        failure,
     })
 }
 

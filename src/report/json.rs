@@ -14,7 +14,8 @@ fn point_outputs(names: &[String], outs: &[PointOutput]) -> Value {
 }
 
 /// The JSON of `solve`: `{model, omega, harmonics, converged, iterations,
-/// residual_norm, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`.
+/// residual_norm, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`, and
+/// `failure` ([`SolveRecord::failure`]) when Newton could not start.
 pub fn solve_json(r: &SolveRecord) -> Value {
     let mut outs = Map::new();
     for o in &r.outputs {
@@ -24,12 +25,17 @@ pub fn solve_json(r: &SolveRecord) -> Value {
                     "cos": o.cos, "sin": o.sin }),
         );
     }
-    json!({
+    let mut v = json!({
         "model": r.model, "omega": r.omega, "harmonics": r.harmonics,
         "converged": r.converged, "iterations": r.iterations,
         "residual_norm": r.residual_norm, "stable": r.stability.verdict(),
         "outputs": Value::Object(outs),
-    })
+    });
+    // The extension: why Newton could not start (absent when it could).
+    if let (Some(why), Some(m)) = (&r.failure, v.as_object_mut()) {
+        m.insert("failure".into(), json!(why));
+    }
+    v
 }
 
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus

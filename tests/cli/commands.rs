@@ -422,6 +422,31 @@ fn simulate_flags_a_run_that_is_not_steady() {
     assert!(stdout(&o).contains("warning: x is not steady"), "{}", stdout(&o));
 }
 
+/// A model whose every coefficient is zero has a singular Jacobian at the start:
+/// the JSON is still written (failure as data) with the start x = 0, whose residual
+/// is the forcing `F cos Ωt` alone (norm F = 0.5), and the reason.
+#[test]
+fn solve_with_a_singular_jacobian_writes_its_json() {
+    let json = tmp("singular.json");
+    let _ = std::fs::remove_file(&json);
+    let mut args = vec!["solve", "duffing", "--omega", "1"];
+    for p in ["m=0", "c=0", "k=0", "k3=0"] {
+        args.extend(["--set", p]);
+    }
+    args.extend(["--json", json.to_str().unwrap()]);
+    let o = ihbm(&args);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim_end().lines().count(), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("singular Jacobian"), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["converged"], false);
+    assert_eq!(v["iterations"].as_u64(), Some(0));
+    assert!((v["residual_norm"].as_f64().unwrap() - 0.5).abs() < 1e-15, "{v}");
+    assert_eq!(v["stable"], Value::Null);
+    assert_eq!(v["outputs"]["x"]["max_abs"].as_f64(), Some(0.0));
+    assert!(v["failure"].as_str().unwrap().contains("singular"), "{v}");
+}
+
 /// Far above resonance 200 periods are too short for the body mode to decay (its
 /// decay time is 2/ξ with ξ the EPMC damping; see tests/timedomain/settling.rs): the
 /// JSON says how much is left and the table warns; at 10 rad/s nothing is left.

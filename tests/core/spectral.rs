@@ -309,6 +309,15 @@ fn fractional_duffing_jacobian_matches_finite_differences() {
     }
 }
 
+/// A non-finite coefficient is never summarised as a finite maximum (a diverged
+/// iterate once reported `max_abs` 0 beside `null` means).
+#[test]
+fn max_abs_of_non_finite_coefficients_is_not_finite() {
+    assert!(max_abs(&[0.0, f64::NAN, 1.0]).is_nan());
+    assert_eq!(max_abs(&[0.0, f64::INFINITY, 1.0, 0.0, 0.0]), f64::INFINITY);
+    assert!(max_abs(&[f64::NEG_INFINITY, 0.0, f64::NAN]).is_nan());
+}
+
 /// max_abs on signals whose maximum is known in closed form.
 #[test]
 fn max_abs_closed_forms() {
