@@ -169,7 +169,7 @@ impl<M: Model> Continuation<'_, M> {
             let Some(first) = jumps.get(l.jump) else { continue };
             let (ya, yb) = (&self.nodes[l.a].y, &self.nodes[l.b].y);
             let mut y: Vec<f64> = ya.iter().zip(yb).map(|(p, q)| p + l.w * (q - p)).collect();
-            let target = first.at / self.tr.sl;
+            let target = self.tr.scaled(first.at);
             y[n] = target;
             if self.tr.locate(&mut y, &e_n, target).is_err() {
                 continue;

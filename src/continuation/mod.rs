@@ -58,7 +58,7 @@ use convergence::with_convergence;
 use tracer::Axis;
 
 pub use events::{Control, Event, Observer, Trace};
-pub use stepper::Continuation;
+pub use stepper::{Continuation, LOG_RANGE};
 
 /// Predictor direction (`tangent`, `secant` on the command line and in study files).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

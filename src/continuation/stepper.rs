@@ -23,6 +23,10 @@ use crate::results::{
 use crate::stability::{Crossing, Hill};
 use std::collections::VecDeque;
 
+/// The ratio `hi / lo` of a positive range from which its parameter is continued as
+/// `ln λ` (three decades: the reference study's 1–100 rad/s stays linear).
+pub const LOG_RANGE: f64 = 1e3;
+
 /// One accepted point of the trace, in scaled variables.
 pub(super) struct Node {
     pub y: Vec<f64>,
@@ -165,7 +169,9 @@ impl<'m, M: Model> Continuation<'m, M> {
         }
         let mut tr = Tracer::new(bal, axis, opts.tol, opts.max_iter);
         let n = tr.n;
-        tr.sl = hi - lo;
+        // Many decades: continue in ln λ (see the tracer's module docs).
+        tr.log = lo > 0.0 && hi / lo >= LOG_RANGE;
+        tr.sl = if tr.log { std::f64::consts::LN_10 } else { hi - lo };
         tr.range = (lo, hi);
         // Reference force: the residual at zero response (the forcing).
         let sr = tr.reference_force(lo).max(tr.reference_force(hi));
@@ -182,8 +188,8 @@ impl<'m, M: Model> Continuation<'m, M> {
             let f = i as f64 / 16.0;
             let lam = if axis == Axis::Omega { lo * (hi / lo).powf(f) } else { lo + f * (hi - lo) };
             y.fill(0.0);
-            y[n] = lam / tr.sl;
-            if tr.newton_step(&mut y, &e_n, lam / tr.sl).is_ok() {
+            y[n] = tr.scaled(lam);
+            if tr.newton_step(&mut y, &e_n, tr.scaled(lam)).is_ok() {
                 sa = sa.max(tr.sa * y[..n].iter().fold(0.0, |m: f64, v| m.max(v.abs())));
             }
         }
@@ -345,7 +351,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let n = self.tr.n;
         let mut y = vec![0.0; n + 1];
         let e_n = unit(n);
-        let target = lam / self.tr.sl;
+        let target = self.tr.scaled(lam);
         y[n] = target;
         let guess = if self.tr.axis == Axis::Omega {
             let so = crate::corrector::SolveOptions {
@@ -384,7 +390,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let Some(b) = self.branch.clone() else { return };
         let sa = self.tr.sa;
         let mut y0: Vec<f64> = b.a0.iter().map(|a| a / sa).collect();
-        y0.push(b.omega0 / self.tr.sl);
+        y0.push(self.tr.scaled(b.omega0));
         let amp = y0[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let eps = b.step * amp.max(f64::MIN_POSITIVE);
         let mut border: Vec<f64> = b.v.clone();
@@ -454,7 +460,7 @@ impl<'m, M: Model> Continuation<'m, M> {
     /// Attempts from the last node until one step is accepted or the segment ends.
     fn walk(&mut self, seg: usize, first: usize, mut h: f64) {
         let n = self.tr.n;
-        let (lo_s, hi_s) = (self.lo / self.tr.sl, self.hi / self.tr.sl);
+        let (lo_s, hi_s) = (self.tr.scaled(self.lo), self.tr.scaled(self.hi));
         let (min_step, max_step, max_turn) =
             (self.opts.min_step, self.opts.max_step, self.opts.max_turn);
         let (mut y, mut t, mut dirv) = (

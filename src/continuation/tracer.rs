@@ -3,7 +3,11 @@
 //! Unknowns are `y = [a / s_a, λ / s_λ]`: Fourier coefficients divided by a reference
 //! amplitude and the continuation parameter divided by the length of its range, so
 //! that a step of 0.05 means "5 % of the range" in λ and "5 % of the reference
-//! response" in amplitude, whether amplitudes are micrometres or metres. Residuals are
+//! response" in amplitude, whether amplitudes are micrometres or metres. Over a
+//! positive range of three decades or more the parameter is continued as `ln λ`
+//! divided by `ln 10`: 5 % is then 5 % of a decade (the largest step, 0.1 by default,
+//! gives at least ten points per decade), and a sweep from 10⁻⁶ to 10⁶ no longer
+//! takes steps of 10⁵ rad/s at its low end. Residuals are
 //! divided by a reference force (the residual at zero response, i.e. the forcing).
 //!
 //! One LU of the `(n+1)×(n+1)` bordered matrix per Newton iteration; the LU of the
@@ -31,7 +35,12 @@ pub(crate) struct Tracer<'m, M: Model> {
     /// Number of Fourier coefficients.
     pub n: usize,
     pub sa: f64,
+    /// The unit of the continued coordinate: the range `hi - lo`, or with `log` one
+    /// decade, `ln 10`.
     pub sl: f64,
+    /// Continue in `ln λ` rather than `λ` (a range over many decades, where a step
+    /// that suits one end is absurd at the other).
+    pub log: bool,
     pub sr: f64,
     /// The range of the continuation parameter: nothing is evaluated outside it.
     pub range: (f64, f64),
@@ -57,6 +66,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             n,
             sa: 1.0,
             sl: 1.0,
+            log: false,
             sr: 1.0,
             range: (f64::NEG_INFINITY, f64::INFINITY),
             tol,
@@ -73,7 +83,37 @@ impl<'m, M: Model> Tracer<'m, M> {
 
     /// The continuation parameter at `y`.
     pub fn lambda(&self, y: &[f64]) -> f64 {
-        y[self.n] * self.sl
+        let u = y[self.n] * self.sl;
+        if !self.log {
+            return u;
+        }
+        // exp(ln lo) is lo only to rounding: the ends of the range are kept exact.
+        let (lo, hi) = self.range;
+        for end in [lo, hi] {
+            if (u - end.ln()).abs() <= 4.0 * f64::EPSILON * end.ln().abs().max(1.0) {
+                return end;
+            }
+        }
+        u.exp()
+    }
+
+    /// The scaled coordinate `y[n]` of the parameter value `lam` (inverse of
+    /// [`Tracer::lambda`]).
+    pub fn scaled(&self, lam: f64) -> f64 {
+        if self.log {
+            lam.ln() / self.sl
+        } else {
+            lam / self.sl
+        }
+    }
+
+    /// `dλ / dy[n]` at `y`.
+    fn d_lambda(&self, y: &[f64]) -> f64 {
+        if self.log {
+            self.lambda(y) * self.sl
+        } else {
+            self.sl
+        }
     }
 
     /// The forcing frequency at `y`.
@@ -122,7 +162,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * self.sa;
         }
-        let lam = y[n] * self.sl;
+        let lam = self.lambda(y);
         let (lo, hi) = self.range;
         // The landing on the range end corrects onto it from inside; allow rounding.
         let slack = 1e-9 * (hi - lo);
@@ -162,13 +202,13 @@ impl<'m, M: Model> Tracer<'m, M> {
     fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) -> Result<(), String> {
         let n = self.n;
         let omega = self.unscale(y)?;
+        let (cs, cl) = (self.sa / self.sr, self.d_lambda(y) / self.sr);
         let mut k = self.lu.matrix_mut();
         self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
         match self.axis {
             Axis::Omega => self.bal.d_omega(&self.a, omega, &mut self.dl),
             Axis::Param { index, .. } => self.bal.d_param(&self.a, omega, index, &mut self.dl),
         }
-        let (cs, cl) = (self.sa / self.sr, self.sl / self.sr);
         for j in 0..n {
             for i in 0..n {
                 k[(i, j)] *= cs;

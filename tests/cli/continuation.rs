@@ -481,6 +481,38 @@ fn wide_ranges_give_finite_points_inside_the_range() {
     }
 }
 
+/// Twelve decades are continued in ln Ω: one segment from end to end, points in
+/// every decade (in Ω itself, steps suited to 10⁶ rad/s jumped over everything below
+/// and the first segment turned back at once), each on the closed-form linear
+/// response of the fractional oscillator (k3 = 0).
+#[test]
+fn a_sweep_over_twelve_decades_covers_each_of_them() {
+    let (m, c, k, h, p, force) = (1.0, 0.05, 1.0, 0.1, 0.5, 0.3);
+    let v =
+        json(&words("sweep fractional-duffing --from 1e-6 --to 1e6 --set k3=0 --set F=0.3 --json"));
+    let segs = v["segments"].as_array().unwrap();
+    assert_eq!(segs.len(), 1, "{segs:?}");
+    assert_eq!(segs[0]["ended"], "reached end");
+    assert!((f(&segs[0], "to_omega") / 1e6 - 1.0).abs() < 1e-9, "{segs:?}");
+    let mut per_decade = [0usize; 12];
+    // Newton's tolerance is on coefficients scaled by the reference amplitude (the
+    // largest response, near resonance): far above it, where the response is 10⁻⁹
+    // of that, the error is relative to the peak.
+    let peak = points(&v)
+        .iter()
+        .map(|pt| linear(m, c, k, h, p, force, f(pt, "omega")))
+        .fold(0.0, f64::max);
+    for pt in points(&v) {
+        let w = f(pt, "omega");
+        per_decade[((w.log10() + 6.0).floor() as usize).min(11)] += 1;
+        let exact = linear(m, c, k, h, p, force, w);
+        let err = (x_max(pt) - exact).abs();
+        assert!(err <= 1e-9 * exact + 1e-12 * peak, "Ω = {w}: {} vs {exact}", x_max(pt));
+    }
+    // The largest step, 0.1 of a decade, makes at least ten a decade.
+    assert!(per_decade.iter().all(|&n| n >= 10), "points per decade: {per_decade:?}");
+}
+
 /// A sweep that traces no point fails (exit 1, one line with the segments' reasons)
 /// and still writes its JSON; a tiny force is no reason to fail: in the linear regime
 /// the response scales exactly with it.
