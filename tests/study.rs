@@ -7,6 +7,8 @@
 mod backbones;
 #[path = "shared/elliptic.rs"]
 mod elliptic;
+#[path = "study/locations.rs"]
+mod locations;
 #[path = "study/reference.rs"]
 mod reference;
 #[path = "study/report_files.rs"]

@@ -312,6 +312,18 @@ fn two_numbers<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]
     }
 }
 
+/// One step of a path to a value in the study file: a key or an array index.
+#[derive(Debug, Clone, Copy)]
+enum Key<'a> {
+    Name(&'a str),
+    Index(usize),
+}
+
+/// The path of figure `f`'s key `key` (`[[figure]]` tables are an array).
+fn fig_key<'a>(f: usize, key: &'a str) -> [Key<'a>; 3] {
+    [Key::Name("figure"), Key::Index(f), Key::Name(key)]
+}
+
 /// 1-based line and column of byte offset `at` in `text`.
 pub fn line_col(text: &str, at: usize) -> (usize, usize) {
     let at = at.min(text.len());
@@ -350,6 +362,40 @@ impl Study {
             }
             None => Error::Study(msg.to_string()),
         }
+    }
+
+    /// `file:line:col: msg` at the value `path` names in the file (`["figure", 2,
+    /// "timedomain", "omegas", 0]`), or `file: msg` when it is not written there (a
+    /// default).
+    fn at_path(&self, path: &[Key], msg: impl std::fmt::Display) -> Error {
+        match self.locate(path) {
+            Some(span) => self.at(span, msg),
+            None => self.whole(msg),
+        }
+    }
+
+    /// The span of the value at `path` in the study's text.
+    fn locate(&self, path: &[Key]) -> Option<std::ops::Range<usize>> {
+        use toml::de::{DeArray, DeTable, DeValue};
+        let (_, text) = self.source.as_ref()?;
+        let root = DeTable::parse(text).ok()?;
+        let mut span = root.span();
+        let mut table = Some(root.get_ref());
+        let mut array: Option<&DeArray> = None;
+        for key in path {
+            let value = match (*key, table, array) {
+                (Key::Name(k), Some(t), _) => t.get(k)?,
+                (Key::Index(i), _, Some(a)) => a.get(i)?,
+                _ => return None,
+            };
+            span = value.span();
+            (table, array) = match value.get_ref() {
+                DeValue::Table(t) => (Some(t), None),
+                DeValue::Array(a) => (None, Some(a)),
+                _ => (None, None),
+            };
+        }
+        Some(span)
     }
 
     /// `file: msg`.
@@ -403,7 +449,7 @@ impl Study {
         let base = self.base_model(reg)?;
         self.check_harmonics(self.harmonics, None)?;
         self.check_sweep(&self.sweep, None)?;
-        self.check_range(&self.frequency, "frequency")?;
+        self.check_range(&self.frequency, None)?;
         check_outputs(self, base.as_ref(), &self.outputs)?;
         let mut models = vec![base.clone_box()];
         for fig in &self.figures {
@@ -419,15 +465,18 @@ impl Study {
                     models.iter().flat_map(|m| m.outputs().iter().map(|o| &*o.name)).collect();
                 known.sort_unstable();
                 known.dedup();
-                return Err(self.whole(format!(
-                    "labels: '{name}' is not an output of model '{}' (known: {})",
-                    names.join("' or '"),
-                    known.join(", ")
-                )));
+                return Err(self.at_path(
+                    &[Key::Name("labels"), Key::Name(name)],
+                    format!(
+                        "labels: '{name}' is not an output of model '{}' (known: {})",
+                        names.join("' or '"),
+                        known.join(", ")
+                    ),
+                ));
             }
         }
         let mut ids: Vec<&str> = Vec::new();
-        for fig in &self.figures {
+        for (f, fig) in self.figures.iter().enumerate() {
             let id = fig.id.get_ref();
             if id.is_empty()
                 || !id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
@@ -443,13 +492,13 @@ impl Study {
             ids.push(id);
             let m = self.figure_model(fig, reg)?;
             if let Some(n) = fig.harmonics {
-                self.check_harmonics(n, Some(id))?;
+                self.check_harmonics(n, Some((f, id)))?;
             }
             if fig.sweep.is_some() {
-                self.check_sweep(&self.sweep.merged(fig.sweep.as_ref()), Some(id))?;
+                self.check_sweep(&self.sweep.merged(fig.sweep.as_ref()), Some((f, id)))?;
             }
             if let Some(r) = &fig.frequency {
-                self.check_range(r, &format!("figure '{id}': frequency"))?;
+                self.check_range(r, Some((f, id)))?;
             }
             if let Some(outs) = &fig.outputs {
                 check_outputs(self, m.as_ref(), outs)?;
@@ -517,59 +566,80 @@ impl Study {
                 self.check_backbone(fig, b, m.as_ref())?;
             }
             if let Some(td) = &fig.timedomain {
+                let at = |key: &str, msg: String| {
+                    let [a, b, c] = fig_key(f, "timedomain");
+                    self.at_path(&[a, b, c, Key::Name(key)], msg)
+                };
                 if td.omegas.is_empty() || td.schemes.is_empty() {
-                    return Err(self.whole(format!(
-                        "figure '{id}': timedomain needs non-empty 'omegas' and 'schemes'"
-                    )));
+                    return Err(self.at_path(
+                        &fig_key(f, "timedomain"),
+                        format!("figure '{id}': timedomain needs non-empty 'omegas' and 'schemes'"),
+                    ));
                 }
-                for &w in &td.omegas {
+                for (j, &w) in td.omegas.iter().enumerate() {
                     if !(w.is_finite() && w > 0.0) {
-                        return Err(self.whole(format!(
-                            "figure '{id}': timedomain omega {w} must be > 0 rad/s"
-                        )));
+                        let [a, b, c] = fig_key(f, "timedomain");
+                        return Err(self.at_path(
+                            &[a, b, c, Key::Name("omegas"), Key::Index(j)],
+                            format!("figure '{id}': timedomain omega {w} must be > 0 rad/s"),
+                        ));
                     }
                 }
                 let min = crate::timedomain::MIN_PERIODS;
                 if td.periods.is_some_and(|p| p < min) {
-                    return Err(
-                        self.whole(format!("figure '{id}': timedomain periods must be >= {min}"))
-                    );
+                    return Err(at(
+                        "periods",
+                        format!("figure '{id}': timedomain periods must be >= {min}"),
+                    ));
                 }
                 let min_steps = crate::timedomain::MIN_STEPS_PER_PERIOD;
                 if td.steps_per_period.is_some_and(|s| !(s.is_finite() && s >= min_steps)) {
-                    return Err(self.whole(format!(
-                        "figure '{id}': timedomain steps_per_period must be >= {min_steps}"
-                    )));
+                    return Err(at(
+                        "steps_per_period",
+                        format!(
+                            "figure '{id}': timedomain steps_per_period must be >= {min_steps}"
+                        ),
+                    ));
                 }
             }
-            for c in &fig.checks {
+            for (k, c) in fig.checks.iter().enumerate() {
+                let at = |key: &str, msg: String| {
+                    let [a, b, _] = fig_key(f, "");
+                    self.at_path(&[a, b, Key::Name("check"), Key::Index(k), Key::Name(key)], msg)
+                };
                 if let Some(o) = &c.output {
                     m.outputs().iter().find(|x| *x.name == **o).ok_or_else(|| {
-                        self.whole(format!(
-                            "figure '{id}': check output '{o}' is not an output of model '{}'",
-                            m.name()
-                        ))
+                        at(
+                            "output",
+                            format!(
+                                "figure '{id}': check output '{o}' is not an output of model '{}'",
+                                m.name()
+                            ),
+                        )
                     })?;
                 }
                 if let Some([lo, hi]) = c.band {
                     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                        return Err(self.whole(format!(
-                            "figure '{id}': check band [{lo}, {hi}] must have lo < hi"
-                        )));
+                        return Err(at(
+                            "band",
+                            format!("figure '{id}': check band [{lo}, {hi}] must have lo < hi"),
+                        ));
                     }
                 }
                 if c.tol.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-                    return Err(self.whole(format!("figure '{id}': check tol must be > 0")));
+                    return Err(at("tol", format!("figure '{id}': check tol must be > 0")));
                 }
                 if c.from_value.is_some_and(|v| !v.is_finite()) {
-                    return Err(self.whole(format!(
-                        "figure '{id}': check from_value must be a finite number"
-                    )));
+                    return Err(at(
+                        "from_value",
+                        format!("figure '{id}': check from_value must be a finite number"),
+                    ));
                 }
                 if c.kind == CheckKind::Timedomain && fig.timedomain.is_none() {
-                    return Err(self.whole(format!(
-                        "figure '{id}': a 'timedomain' check needs a 'timedomain' table"
-                    )));
+                    return Err(at(
+                        "kind",
+                        format!("figure '{id}': a 'timedomain' check needs a 'timedomain' table"),
+                    ));
                 }
             }
         }
@@ -620,27 +690,51 @@ impl Study {
         Ok(())
     }
 
-    fn check_harmonics(&self, n: usize, fig: Option<&str>) -> Result<()> {
+    /// `key` of the study, or of figure `fig` (its index and id): the path to it in
+    /// the file, and the prefix of its messages.
+    fn place<'a>(fig: Option<(usize, &'a str)>, key: &'a str) -> (Vec<Key<'a>>, String) {
+        match fig {
+            None => (vec![Key::Name(key)], String::new()),
+            Some((f, id)) => (fig_key(f, key).to_vec(), format!("figure '{id}': ")),
+        }
+    }
+
+    fn check_harmonics(&self, n: usize, fig: Option<(usize, &str)>) -> Result<()> {
         if n == 0 || n > 1000 {
-            let what = fig.map_or(String::new(), |f| format!("figure '{f}': "));
-            return Err(self.whole(format!("{what}harmonics = {n} (expected 1 <= N <= 1000)")));
+            let (path, what) = Self::place(fig, "harmonics");
+            return Err(
+                self.at_path(&path, format!("{what}harmonics = {n} (expected 1 <= N <= 1000)"))
+            );
         }
         Ok(())
     }
 
-    fn check_sweep(&self, s: &SweepSettings, fig: Option<&str>) -> Result<()> {
+    /// The merged settings of the study or a figure; the error points at the key
+    /// where it is written (the figure's table, else the study's).
+    fn check_sweep(&self, s: &SweepSettings, fig: Option<(usize, &str)>) -> Result<()> {
         s.options().map(|_| ()).map_err(|e| {
-            let what = fig.map_or(String::new(), |f| format!("figure '{f}': "));
-            self.whole(format!("{what}{}", e.study()))
+            let (mut path, what) = Self::place(fig, "sweep");
+            path.push(Key::Name(e.key));
+            let global = [Key::Name("sweep"), Key::Name(e.key)];
+            let span = self.locate(&path).or_else(|| self.locate(&global));
+            let msg = format!("{what}{}", e.study());
+            match span {
+                Some(span) => self.at(span, msg),
+                None => self.at_path(&path[..path.len() - 1], msg),
+            }
         })
     }
 
-    fn check_range(&self, r: &Range, what: &str) -> Result<()> {
+    fn check_range(&self, r: &Range, fig: Option<(usize, &str)>) -> Result<()> {
         if !(r.from.is_finite() && r.to.is_finite() && r.from > 0.0 && r.from < r.to) {
-            return Err(self.whole(format!(
-                "{what} from {} to {}: expected 0 < from < to (rad/s)",
-                r.from, r.to
-            )));
+            let (path, what) = Self::place(fig, "frequency");
+            return Err(self.at_path(
+                &path,
+                format!(
+                    "{what}frequency from {} to {}: expected 0 < from < to (rad/s)",
+                    r.from, r.to
+                ),
+            ));
         }
         Ok(())
     }

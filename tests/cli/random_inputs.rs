@@ -89,6 +89,15 @@ proptest! {
     }
 }
 
+/// `file:line:col: ...`
+fn located(m: &str, file: &str) -> bool {
+    let Some(rest) = m.strip_prefix(file).and_then(|r| r.strip_prefix(':')) else { return false };
+    let mut parts = rest.splitn(3, ':');
+    let num =
+        |p: Option<&str>| p.is_some_and(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_digit()));
+    num(parts.next()) && num(parts.next()) && parts.next().is_some_and(|r| r.starts_with(' '))
+}
+
 const GOOD: &str = r#"model = "quarter-car"
 frequency = { from = 1.0, to = 2.0 }
 [[figure]]
@@ -133,6 +142,18 @@ fn fragment() -> impl Strategy<Value = String> {
         Just("[sweep]\n".to_string()),
         Just("max_step = 0.1\n".to_string()),
         Just("bogus = true\n".to_string()),
+        Just("sweep = { max_step = -1.0 }\n".to_string()),
+        Just("sweep = { tol = 1e-300, min_step = 2.0 }\n".to_string()),
+        Just("labels = { w = \"x\" }\n".to_string()),
+        Just("frequency = { from = 1e-6, to = 1e6 }\n".to_string()),
+        Just("harmonics = 1001\n".to_string()),
+        Just("timedomain = { omegas = [1.0], steps_per_period = 5.0 }\n".to_string()),
+        Just("output = \"w\"\n".to_string()),
+        Just("tol = -1.0\n".to_string()),
+        Just("from_value = nan\n".to_string()),
+        Just("values = [1e6, 1e6]\n".to_string()),
+        Just("params = { p = 3.0 }\n".to_string()),
+        Just("kind = \"timedomain\"\n".to_string()),
         "[ -~]{0,20}\n",
     ]
 }
@@ -147,8 +168,9 @@ proptest! {
         match study::parse(&text, "random.toml") {
             Ok(s) => {
                 if let Err(e) = s.validate(reg.registry()) {
+                    // Every refused value is located: file:line:col.
                     let m = e.to_string();
-                    prop_assert!(m.starts_with("random.toml") && !m.contains('\n'), "{m}");
+                    prop_assert!(located(&m, "random.toml") && !m.contains('\n'), "{m}");
                 }
             }
             Err(e) => {
