@@ -10,12 +10,16 @@ mod centring;
 mod common;
 #[path = "stability/fractional.rs"]
 mod fractional;
+#[path = "shared/heap.rs"]
+mod heap;
 #[path = "stability/mathieu.rs"]
 mod mathieu;
 #[path = "shared/mathieu.rs"]
 mod mathieu_model;
 #[path = "stability/scale.rs"]
 mod scale;
+#[path = "stability/size.rs"]
+mod size;
 #[path = "stability/timedomain.rs"]
 mod timedomain;
 #[path = "stability/tracking.rs"]

@@ -9,6 +9,8 @@ mod convergence;
 mod errors;
 #[path = "timedomain/hb.rs"]
 mod hb;
+#[path = "shared/heap.rs"]
+mod heap;
 #[path = "timedomain/linear.rs"]
 mod linear;
 #[path = "timedomain/memory.rs"]
