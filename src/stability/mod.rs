@@ -220,7 +220,7 @@ impl Hill {
         let neq = ndof;
         let nsig = signals.len();
         let big = degree * m;
-        check_hill_size(ndof, nsig, degree, harmonics)?;
+        check_size(model, harmonics)?;
         let scratch =
             faer::linalg::evd::evd_scratch::<f64>(
                 big,
@@ -509,10 +509,23 @@ pub fn hill_bytes(ndof: usize, nsig: usize, degree: usize, harmonics: usize) -> 
         + 16.0 * m * m
 }
 
-/// Refuse a harmonic count whose Hill matrices would not fit in
+/// Refuse a harmonic count whose Hill matrices for `model` would not fit in
 /// [`crate::balance::MEMORY_LIMIT`], naming the largest N that does (harmonic
-/// balance alone needs less: a sweep without stability may still fit).
-fn check_hill_size(ndof: usize, nsig: usize, degree: usize, harmonics: usize) -> Result<()> {
+/// balance alone needs less: a sweep without stability may still fit). Checked by
+/// [`Hill::new`], and by a continuation with stability before anything else.
+pub fn check_size<M: Model>(model: &M, harmonics: usize) -> Result<()> {
+    let ndof = model.dofs().len();
+    let nsig = model.signals().len();
+    let degree = model
+        .signals()
+        .iter()
+        .filter_map(|s| match s.order {
+            Order::Int(q) => Some(q as usize),
+            Order::Param(_) => None,
+        })
+        .max()
+        .unwrap_or(0)
+        .max(1);
     let limit = crate::balance::MEMORY_LIMIT;
     let bytes = |n: usize| hill_bytes(ndof, nsig, degree, n);
     if bytes(harmonics) <= limit {

@@ -393,6 +393,10 @@ fn harmonic_counts_beyond_memory_are_refused_with_the_largest_that_fits() {
             assert_eq!(ihbm(&args).status.code(), Some(2), "{args:?}");
         }
     }
+    // Within the harmonic balance's limit but beyond that of Hill's matrices (see
+    // tests/stability/size.rs): refused before any solve, naming Hill's limit.
+    let args = ["sweep", "quarter-car", "--from", "1", "--to", "2", "--harmonics", "3000"];
+    assert_rejected(&args, &["Hill stability matrices", "largest N that fits"]);
 }
 
 /// A time integration that has not settled says so: an undamped linear oscillator
