@@ -312,6 +312,10 @@ fn two_numbers<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]
     }
 }
 
+/// Most values of `vary` in one figure: each is a curve (and a file pair), and a
+/// figure of more would be neither drawn legibly nor finished in reasonable time.
+pub const MAX_VALUES: usize = 1000;
+
 /// One step of a path to a value in the study file: a key or an array index.
 #[derive(Debug, Clone, Copy)]
 enum Key<'a> {
@@ -512,6 +516,16 @@ impl Study {
                 }
                 None => {}
                 Some(v) => {
+                    if fig.values.len() > MAX_VALUES {
+                        return Err(self.at_path(
+                            &fig_key(f, "values"),
+                            format!(
+                                "figure '{id}': {} values (at most {MAX_VALUES} curves a figure: \
+                                 split the family over figures or studies)",
+                                fig.values.len()
+                            ),
+                        ));
+                    }
                     if fig.values.is_empty() {
                         return Err(self.at(
                             v.span(),

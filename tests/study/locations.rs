@@ -45,6 +45,10 @@ fn every_refused_value_is_located() {
         (format!("{HEAD}{FIG}[[figure.check]]\nkind = \"folds\"\nexpect = \"present\"\nfrom_value = @nan\n"), "from_value"),
         (format!("{HEAD}{FIG}[[figure.check]]\nkind = @\"timedomain\"\nexpect = \"agree\"\n"), "'timedomain' table"),
         (format!("{HEAD}labels = {{ w = @\"x\" }}\n"), "labels: 'w'"),
+        (
+            format!("{HEAD}{FIG}vary = \"k3\"\nvalues = @[{}]\n", vec!["1.0"; 1001].join(", ")),
+            "1001 values",
+        ),
         // The second figure's value, not the first's.
         (format!("{HEAD}{FIG}[[figure]]\nid = \"b\"\nharmonics = @0\n"), "figure 'b'"),
     ];
