@@ -102,6 +102,46 @@ pub struct Study {
     /// File name and text, for error locations (set by [`parse`]).
     #[serde(skip)]
     pub source: Option<(String, String)>,
+    /// The model files read so far, by name as written: each is read and parsed
+    /// once, so validation, planning and the run all use one text of it.
+    #[serde(skip)]
+    loaded: ModelCache,
+}
+
+/// Models read from files, by the name the study gives them.
+#[derive(Default)]
+struct ModelCache(std::sync::Mutex<BTreeMap<String, Box<dyn AnyModel>>>);
+
+impl ModelCache {
+    fn get_or_read(
+        &self,
+        name: &str,
+        read: impl FnOnce() -> Result<Box<dyn AnyModel>>,
+    ) -> Result<Box<dyn AnyModel>> {
+        let mut map = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(m) = map.get(name) {
+            return Ok(m.clone_box());
+        }
+        let m = read()?;
+        map.insert(name.to_string(), m.clone_box());
+        Ok(m)
+    }
+}
+
+impl Clone for ModelCache {
+    fn clone(&self) -> Self {
+        let map = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        ModelCache(std::sync::Mutex::new(
+            map.iter().map(|(k, v)| (k.clone(), v.clone_box())).collect(),
+        ))
+    }
+}
+
+impl std::fmt::Debug for ModelCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let map = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        f.debug_list().entries(map.keys()).finish()
+    }
 }
 
 fn default_harmonics() -> usize {
@@ -421,7 +461,12 @@ impl Study {
     /// file's directory), errors pointing at the name.
     fn model_named(&self, name: &Spanned<String>, reg: &Registry) -> Result<Box<dyn AnyModel>> {
         let dir = self.source.as_ref().and_then(|(f, _)| std::path::Path::new(f).parent());
-        reg.get_in(name.get_ref(), dir).map_err(|e| self.at(name.span(), e))
+        let read = || reg.get_in(name.get_ref(), dir).map_err(|e| self.at(name.span(), e));
+        if crate::engine::registry::is_model_file(name.get_ref()) {
+            self.loaded.get_or_read(name.get_ref(), read)
+        } else {
+            read()
+        }
     }
 
     /// The model of figure `fig` with its overrides applied: the study's model (with

@@ -56,3 +56,25 @@ fn every_refused_value_is_located() {
         expect_at(text, needle);
     }
 }
+
+/// A model file is read once per study: validation, planning and the run use one
+/// text of it, so an edit between them (here, the file emptied after validation)
+/// changes nothing in the run.
+#[test]
+fn a_study_reads_its_model_file_once() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("ihbm-model-cache-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("qc.ihbm");
+    std::fs::write(&model, include_str!("../../examples/quarter_car.ihbm")).unwrap();
+    let text = "model = \"qc.ihbm\"\nfrequency = { from = 1.0, to = 2.0 }\n\
+                [[figure]]\nid = \"a\"\n[[figure]]\nid = \"b\"\nmodel = \"qc.ihbm\"\n";
+    let file = dir.join("s.toml");
+    let s = study::parse(text, file.to_str().unwrap()).unwrap();
+    let reg = Cli::builtin();
+    s.validate(reg.registry()).unwrap();
+    std::fs::write(&model, "not a model").unwrap();
+    let out = study::run(&s, reg.registry(), &dir.join("out")).unwrap();
+    assert!(out.failures.is_empty(), "{:?}", out.failures);
+    assert!(dir.join("out/a.csv").exists() && dir.join("out/b.csv").exists());
+}
