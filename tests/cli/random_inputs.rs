@@ -53,6 +53,10 @@ fn token() -> impl Strategy<Value = String> {
         Just("NaN".to_string()),
         Just("inf".to_string()),
         Just("20".to_string()),
+        // Wide ranges: continued in decades, quick, and never a NaN point.
+        Just("1e-6".to_string()),
+        Just("1e6".to_string()),
+        Just("1e-300".to_string()),
         Just("".to_string()),
         "[a-z=0-9.-]{1,6}",
     ]
@@ -82,10 +86,28 @@ proptest! {
         let err = String::from_utf8_lossy(&err).into_owned();
         if code == 0 {
             prop_assert!(err.is_empty(), "{argv:?}: exit 0 with stderr {err}");
+            // A successful run's JSON holds no NaN or infinity (serde_json writes them
+            // as null) and no null but a stability verdict that does not exist.
+            let text = String::from_utf8_lossy(&out).into_owned();
+            if let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) {
+                prop_assert!(no_null(&v, ""), "{argv:?}: null in {text}");
+            }
+            prop_assert!(!text.contains("NaN") && !text.contains(" inf"), "{argv:?}: {text}");
         } else {
             prop_assert_eq!(err.lines().count(), 1, "{:?}: {}", argv, err);
             prop_assert!(err.starts_with("error: ") && err.len() > 8, "{argv:?}: {err}");
         }
+    }
+}
+
+/// No `null` in `v` but under the key `stable` (`null` there means "no verdict").
+fn no_null(v: &serde_json::Value, key: &str) -> bool {
+    use serde_json::Value::*;
+    match v {
+        Null => key == "stable",
+        Array(a) => a.iter().all(|x| no_null(x, key)),
+        Object(m) => m.iter().all(|(k, x)| no_null(x, k)),
+        _ => true,
     }
 }
 
