@@ -4,7 +4,7 @@
 //! refused instead of silently giving wrong Jacobians.
 
 use ihbm::balance::Balance;
-use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+use ihbm::model::{Domain, Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
 use num_dual::DualNum;
 use std::borrow::Cow::Borrowed;
@@ -76,8 +76,12 @@ impl Model for Claims {
         DOFS
     }
     fn params_info(&self) -> &[ParamInfo] {
-        const P: &[ParamInfo] =
-            &[ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic") }];
+        const P: &[ParamInfo] = &[ParamInfo {
+            name: Borrowed("k3"),
+            default: 1.0,
+            doc: Borrowed("cubic"),
+            domain: Domain::ANY,
+        }];
         P
     }
     fn param_value(&self, _: usize) -> f64 {
