@@ -12,9 +12,9 @@ crate::oscillator! {
     pub struct Quadratic {
         params {
             /// mass, kg
-            m = 1.0,
+            m = 1.0 in (0, inf),
             /// viscous damping, N s/m
-            c = 0.05,
+            c = 0.05 in "[0, inf)",
             /// linear stiffness, N/m
             k = 1.0,
             /// quadratic stiffness, N/m^2
