@@ -201,8 +201,11 @@ pub struct ParamInfo {
 /// m.set_param("k", 4.0).unwrap();
 /// assert_eq!(m.param("k").unwrap(), 4.0);
 /// assert!(m.set_param("q", 1.0).is_err());
-/// m.set_param("m", -1.0).unwrap(); // stored; the solvers' `validate` refuses it
-/// assert!(m.validate().unwrap_err().to_string().contains("a value in (0, inf)"));
+/// // A mass is positive: the domain refuses -1 (and `validate` any value set otherwise).
+/// let e = m.set_param("m", -1.0).unwrap_err().to_string();
+/// assert!(e.contains("a value in (0, inf) (the domain model 'linear' declares for m)"), "{e}");
+/// m.set_param_value(0, -1.0);
+/// assert!(m.validate().is_err());
 /// ```
 pub trait Model: Send + Sync {
     /// A short name (the CLI's model name for built-in models).
@@ -320,7 +323,8 @@ pub trait Model: Send + Sync {
         Ok(self.param_value(self.param_index(name)?))
     }
 
-    /// Set the parameter called `name`; unknown names and non-finite values are errors.
+    /// Set the parameter called `name`; unknown names, non-finite values and values
+    /// outside the parameter's [`Domain`] are errors (the value is not set).
     fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
         let i = self.param_index(name)?;
         if !value.is_finite() {
@@ -330,6 +334,8 @@ pub trait Model: Send + Sync {
                 expected: "a finite number".into(),
             });
         }
+        let info = &self.params_info()[i];
+        check_domain(self.name(), info, &format!("parameter {name}"), value)?;
         self.set_param_value(i, value);
         Ok(())
     }
@@ -362,7 +368,7 @@ pub trait Model: Send + Sync {
                     expected: "a finite number".into(),
                 });
             }
-            check_domain(self.name(), info, v)?;
+            check_domain(self.name(), info, &format!("parameter {}", info.name), v)?;
         }
         for s in self.signals() {
             if let Order::Param(i) = s.order {
@@ -381,14 +387,15 @@ pub trait Model: Send + Sync {
 }
 
 /// Refuse `value` for parameter `info` of model `model` if it lies outside the declared
-/// domain: the one message for every place a value enters (`validate`, the ends of a
-/// continuation range, the values a study varies).
-pub fn check_domain(model: &str, info: &ParamInfo, value: f64) -> Result<(), Error> {
+/// domain: the one message for every place a value enters (`set_param`, `validate`,
+/// the ends of a continuation range); `what` names the value ("parameter m1", "end of
+/// the range of m1").
+pub fn check_domain(model: &str, info: &ParamInfo, what: &str, value: f64) -> Result<(), Error> {
     if info.domain.contains(value) {
         return Ok(());
     }
     Err(Error::InvalidValue {
-        what: format!("parameter {}", info.name),
+        what: what.to_string(),
         value: crate::error::Num(value).to_string(),
         expected: format!(
             "a value in {} (the domain model '{model}' declares for {})",
