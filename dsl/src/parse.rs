@@ -124,94 +124,41 @@ fn not_a_bound(what: &str) -> String {
     format!("`{what}` is not a bound: a bound of a domain is a number, `inf` or `-inf`")
 }
 
-/// The interval in a string, `"[0, inf)"`, read by hand; each error points at its
-/// character where the span allows (in a model file; a proc-macro gets the literal).
+/// The interval in a string, `"[0, inf)"`, read by hand. Errors point at the string:
+/// a proc-macro cannot point inside a literal on stable Rust, and a model file gets the
+/// macro's messages at the macro's places.
 fn domain_text(lit: &LitStr) -> syn::Result<(End, End)> {
     let text = lit.value();
-    let token = lit.token();
-    // Offsets map onto the source only if the literal is `"` + text + `"` (no escapes).
-    let plain = token.to_string() == format!("\"{text}\"");
-    let chars: Vec<char> = text.chars().collect();
-    let span = |from: usize, to: usize| {
-        if plain {
-            token.subspan(from + 1..to + 1).unwrap_or(lit.span())
-        } else {
-            lit.span()
-        }
-    };
-    let err =
-        |from: usize, to: usize, msg: String| syn::Error::new(span(from, to.max(from + 1)), msg);
-    let mut i = 0;
-    let skip = |i: &mut usize| {
-        while *i < chars.len() && chars[*i].is_whitespace() {
-            *i += 1;
-        }
-    };
-    skip(&mut i);
-    let closed_lo = match chars.get(i) {
+    let err = |msg: String| syn::Error::new(lit.span(), msg);
+    let t = text.trim();
+    let closed_lo = match t.chars().next() {
         Some('(') => false,
         Some('[') => true,
-        _ => {
-            return Err(err(
-                i,
-                i + 1,
-                format!("expected `(` or `[` to open the domain: {DOMAIN_FORMS}"),
-            ))
-        }
+        _ => return Err(err(format!("expected `(` or `[` to open the domain: {DOMAIN_FORMS}"))),
     };
-    let open_at = i;
-    i += 1;
-    let bound = |i: &mut usize| -> syn::Result<(f64, usize, usize)> {
-        skip(i);
-        let from = *i;
-        while *i < chars.len()
-            && !matches!(chars[*i], ',' | ')' | ']' | '(' | '[')
-            && !chars[*i].is_whitespace()
-        {
-            *i += 1;
-        }
-        let word: String = chars[from..*i].iter().collect();
-        let value = match word.as_str() {
-            "inf" => f64::INFINITY,
-            "-inf" => f64::NEG_INFINITY,
+    let closed_hi = match t.chars().last() {
+        Some(')') if t.len() > 1 => false,
+        Some(']') if t.len() > 1 => true,
+        _ => return Err(err("expected `)` or `]` to close the domain".into())),
+    };
+    let Some((lo, hi)) = t[1..t.len() - 1].split_once(',') else {
+        return Err(err("expected `,` between the ends of the domain".into()));
+    };
+    let bound = |w: &str| -> syn::Result<f64> {
+        match w.trim() {
+            "inf" => Ok(f64::INFINITY),
+            "-inf" => Ok(f64::NEG_INFINITY),
             w => match w.replace('_', "").parse::<f64>() {
-                Ok(v) if v.is_finite() => v,
-                _ => return Err(err(from, *i, not_a_bound(w))),
+                // "nan" and "infinity" parse, and are no bounds
+                Ok(v) if v.is_finite() && !w.is_empty() => Ok(v),
+                _ => Err(err(not_a_bound(w))),
             },
-        };
-        skip(i);
-        Ok((value, from, *i))
+        }
     };
-    let (lo, lo_from, lo_to) = bound(&mut i)?;
-    if chars.get(i) != Some(&',') {
-        return Err(err(i, i + 1, "expected `,` between the ends of the domain".into()));
-    }
-    i += 1;
-    let (hi, hi_from, hi_to) = bound(&mut i)?;
-    let closed_hi = match chars.get(i) {
-        Some(')') => false,
-        Some(']') => true,
-        _ => return Err(err(i, i + 1, "expected `)` or `]` to close the domain".into())),
-    };
-    let close_at = i;
-    i += 1;
-    skip(&mut i);
-    if i < chars.len() {
-        return Err(err(i, chars.len(), "unexpected text after the end of the domain".into()));
-    }
+    let at = lit.span();
     Ok((
-        End {
-            value: lo,
-            closed: closed_lo,
-            bracket: span(open_at, open_at + 1),
-            at: span(lo_from, lo_to),
-        },
-        End {
-            value: hi,
-            closed: closed_hi,
-            bracket: span(close_at, close_at + 1),
-            at: span(hi_from, hi_to),
-        },
+        End { value: bound(lo)?, closed: closed_lo, bracket: at, at },
+        End { value: bound(hi)?, closed: closed_hi, bracket: at, at },
     ))
 }
 
