@@ -14,7 +14,7 @@ crate::oscillator! {
             /// mass, kg
             m = 1.0 in (0, inf),
             /// viscous damping, N s/m
-            c = 0.05 in "[0, inf)",
+            c = 0.05,
             /// linear stiffness, N/m
             k = 1.0,
             /// quadratic stiffness, N/m^2

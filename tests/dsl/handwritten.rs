@@ -231,7 +231,7 @@ pub mod duffing {
             name: Borrowed("c"),
             default: 0.1,
             doc: Borrowed("viscous damping, N s/m"),
-            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
+            domain: Domain::ANY,
         },
         ParamInfo {
             name: Borrowed("k"),
@@ -343,7 +343,7 @@ pub mod duffing {
             name: Borrowed("c"),
             default: 0.05,
             doc: Borrowed("viscous damping, N s/m"),
-            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
+            domain: Domain::ANY,
         },
         ParamInfo {
             name: Borrowed("k"),
