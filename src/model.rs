@@ -108,8 +108,8 @@ impl Domain {
 }
 
 impl std::fmt::Display for Domain {
-    /// Interval notation, `(0, inf)`, `[0, 2]`, `(-inf, 1]`, in the form the model
-    /// language reads back.
+    /// Interval notation, `(0, inf)`, `[0, 2]`, `(-inf, 1]`, as the model language
+    /// reads it back (in quotes when half-open: `in "[0, inf)"`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         use crate::error::Num;
         match self.lower {
@@ -334,8 +334,7 @@ pub trait Model: Send + Sync {
                 expected: "a finite number".into(),
             });
         }
-        let info = &self.params_info()[i];
-        check_domain(self.name(), info, &format!("parameter {name}"), value)?;
+        check_domain(self.name(), &self.params_info()[i], &param_what(self, i), value)?;
         self.set_param_value(i, value);
         Ok(())
     }
@@ -368,7 +367,7 @@ pub trait Model: Send + Sync {
                     expected: "a finite number".into(),
                 });
             }
-            check_domain(self.name(), info, &format!("parameter {}", info.name), v)?;
+            check_domain(self.name(), info, &param_what(self, i), v)?;
         }
         for s in self.signals() {
             if let Order::Param(i) = s.order {
@@ -383,6 +382,17 @@ pub trait Model: Send + Sync {
             }
         }
         Ok(())
+    }
+}
+
+/// "fractional order p" for a parameter some signal takes as its order, else
+/// "parameter k": how messages name parameter `i` of `model`.
+fn param_what<M: Model + ?Sized>(model: &M, i: usize) -> String {
+    let name = &model.params_info()[i].name;
+    if model.signals().iter().any(|s| s.order == Order::Param(i)) {
+        format!("fractional order {name}")
+    } else {
+        format!("parameter {name}")
     }
 }
 

@@ -197,6 +197,9 @@ mod tests {
         let (_, c, m) = err("a = 1 in (1, 1)");
         assert_eq!(c, 11, "{m}");
         assert!(m.contains("empty"), "{m}");
+        let (_, c, m) = err("a = 1 in (inf, inf)");
+        assert_eq!(c, 11, "{m}");
+        assert!(m.contains("its lower end is `inf`"), "{m}");
         let (_, c, m) = err("a = 1 in (0, x)");
         assert_eq!(c, 14, "{m}");
         assert!(m.contains("`x` is not a bound"), "{m}");

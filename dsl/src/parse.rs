@@ -178,6 +178,13 @@ fn interval(lo: End, hi: End) -> syn::Result<DomainDecl> {
             format!("the domain's lower end {} is above its upper end {}", lo.value, hi.value),
         ));
     }
+    if lo.value == f64::INFINITY || hi.value == f64::NEG_INFINITY {
+        let at = if lo.value == f64::INFINITY { lo.at } else { hi.at };
+        return Err(syn::Error::new(
+            at,
+            "the domain is empty: its lower end is `inf` or its upper end `-inf`",
+        ));
+    }
     if lo.value == hi.value && !(lo.closed && hi.closed) {
         return Err(syn::Error::new(
             lo.at,
