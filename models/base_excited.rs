@@ -14,17 +14,17 @@ crate::oscillator! {
     pub struct BaseExcited {
         params {
             /// mass, kg
-            m = 1.0,
+            m = 1.0 in (0, inf),
             /// viscous damping, N s/m
-            c = 0.05,
+            c = 0.05 in "[0, inf)",
             /// linear stiffness, N/m
-            k = 1.0,
+            k = 1.0 in "[0, inf)",
             /// cubic stiffness, N/m^3
             k3 = 0.5,
             /// fractional element coefficient, N s^p/m
-            h = 0.05,
+            h = 0.05 in "[0, inf)",
             /// fractional order (dimensionless, in (1, 2) for this model)
-            p = 1.5,
+            p = 1.5 in (1, 2),
             /// base displacement amplitude, m
             U = 0.1,
         }

@@ -16,29 +16,29 @@ crate::oscillator! {
     pub struct TwoMassChain {
         params {
             /// first mass, kg
-            m1 = 1.0,
+            m1 = 1.0 in (0, inf),
             /// second mass, kg
-            m2 = 0.5,
+            m2 = 0.5 in (0, inf),
             /// viscous damping of mass 1 to ground, N s/m
-            c1 = 0.02,
+            c1 = 0.02 in "[0, inf)",
             /// cubic damping of mass 1 to ground, N s^3/m^3
-            cc = 0.01,
+            cc = 0.01 in "[0, inf)",
             /// linear stiffness of mass 1 to ground, N/m
-            k1 = 1.0,
+            k1 = 1.0 in "[0, inf)",
             /// quadratic stiffness of mass 1 to ground, N/m^2
             kq = 0.3,
             /// cubic stiffness of mass 1 to ground, N/m^3
             k3 = 0.5,
             /// coupling stiffness between the masses, N/m
-            kc = 0.5,
+            kc = 0.5 in "[0, inf)",
             /// fractional damping coefficient between the masses, N s^p/m
-            hc = 0.05,
+            hc = 0.05 in "[0, inf)",
             /// fractional order of the coupling damper (dimensionless, in [0, 2])
-            p = 0.5,
+            p = 0.5 in [0, 2],
             /// viscous damping of mass 2 to ground, N s/m
-            c2 = 0.02,
+            c2 = 0.02 in "[0, inf)",
             /// linear stiffness of mass 2 to ground, N/m
-            k2 = 0.8,
+            k2 = 0.8 in "[0, inf)",
             /// force amplitude at Ω on mass 1, N
             F1 = 0.1,
             /// force amplitude at 2Ω on mass 1, N

@@ -11,7 +11,7 @@ crate::oscillator! {
     pub struct Duffing {
         params {
             /// mass, kg
-            m = 1.0,
+            m = 1.0 in (0, inf),
             /// viscous damping, N s/m
             c = 0.1,
             /// linear stiffness, N/m
@@ -34,7 +34,7 @@ crate::oscillator! {
     pub struct FractionalDuffing {
         params {
             /// mass, kg
-            m = 1.0,
+            m = 1.0 in (0, inf),
             /// viscous damping, N s/m
             c = 0.05,
             /// linear stiffness, N/m
@@ -42,9 +42,9 @@ crate::oscillator! {
             /// cubic stiffness, N/m^3
             k3 = 1.0,
             /// fractional damping coefficient, N s^p/m
-            h = 0.1,
+            h = 0.1 in "[0, inf)",
             /// fractional order (dimensionless, in [0, 2])
-            p = 0.5,
+            p = 0.5 in [0, 2],
             /// force amplitude, N
             F = 0.5,
         }

@@ -28,41 +28,41 @@ crate::oscillator! {
     pub struct HalfCar {
         params {
             /// body (sprung) mass, kg
-            m = 690.0,
+            m = 690.0 in (0, inf),
             /// body pitch moment of inertia, kg m^2
-            I = 1222.0,
+            I = 1222.0 in (0, inf),
             /// front wheel (unsprung) mass, kg
-            mf = 40.0,
+            mf = 40.0 in (0, inf),
             /// rear wheel (unsprung) mass, kg
-            mr = 45.0,
+            mr = 45.0 in (0, inf),
             /// front suspension stiffness, N/m
-            kf = 18_000.0,
+            kf = 18_000.0 in "[0, inf)",
             /// rear suspension stiffness, N/m
-            kr = 22_000.0,
+            kr = 22_000.0 in "[0, inf)",
             /// front cubic suspension stiffness, N/m^3
             k3f = 10_000.0,
             /// rear cubic suspension stiffness, N/m^3
             k3r = 10_000.0,
             /// front viscous damping, N s/m
-            cf = 1_000.0,
+            cf = 1_000.0 in "[0, inf)",
             /// rear viscous damping, N s/m
-            cr = 1_000.0,
+            cr = 1_000.0 in "[0, inf)",
             /// front fractional damping coefficient, N s^p/m
-            hf = 1_000.0,
+            hf = 1_000.0 in "[0, inf)",
             /// rear fractional damping coefficient, N s^p/m
-            hr = 1_000.0,
+            hr = 1_000.0 in "[0, inf)",
             /// fractional order of both elements (dimensionless, in [0, 2])
-            p = 0.5,
+            p = 0.5 in [0, 2],
             /// front tyre stiffness, N/m
-            ktf = 200_000.0,
+            ktf = 200_000.0 in "[0, inf)",
             /// rear tyre stiffness, N/m
-            ktr = 200_000.0,
+            ktr = 200_000.0 in "[0, inf)",
             /// centre of mass to front axle, m
-            a = 1.3,
+            a = 1.3 in (0, inf),
             /// centre of mass to rear axle, m
-            b = 1.5,
+            b = 1.5 in (0, inf),
             /// vehicle speed, m/s (the rear wheel meets the road (a+b)/v later)
-            v = 20.0,
+            v = 20.0 in (0, inf),
             /// road amplitude, m
             F = 0.01,
         }

@@ -12,7 +12,7 @@ crate::oscillator! {
     pub struct Quadratic {
         params {
             /// mass, kg
-            m = 1.0,
+            m = 1.0 in (0, inf),
             /// viscous damping, N s/m
             c = 0.05,
             /// linear stiffness, N/m

@@ -14,21 +14,21 @@ crate::oscillator! {
     pub struct QuarterCar {
         params {
             /// body (sprung) mass, kg
-            m1 = 240.0,
+            m1 = 240.0 in (0, inf),
             /// wheel (unsprung) mass, kg
-            m2 = 30.0,
+            m2 = 30.0 in (0, inf),
             /// linear suspension stiffness, N/m
-            k1 = 16_000.0,
+            k1 = 16_000.0 in "[0, inf)",
             /// cubic suspension stiffness, N/m^3
             k3 = 10_000.0,
             /// tyre stiffness, N/m
-            kt = 160_000.0,
+            kt = 160_000.0 in "[0, inf)",
             /// viscous suspension damping, N s/m
-            c = 1_000.0,
+            c = 1_000.0 in "[0, inf)",
             /// fractional damping coefficient, N s^p/m
-            h = 1_000.0,
+            h = 1_000.0 in "[0, inf)",
             /// fractional order (dimensionless, in [0, 2])
-            p = 0.5,
+            p = 0.5 in [0, 2],
             /// road amplitude, m
             F = 0.01,
         }

@@ -12,11 +12,11 @@ crate::oscillator! {
     pub struct VanDerPol {
         params {
             /// mass, kg
-            m = 1.0,
+            m = 1.0 in (0, inf),
             /// negative linear / positive cubic damping, N s/m
             mu = 0.2,
             /// stiffness, N/m
-            k = 1.0,
+            k = 1.0 in "[0, inf)",
         }
         dofs { x }
         equations {

@@ -49,15 +49,94 @@ pub struct Output {
     pub terms: Terms,
 }
 
-/// A declared parameter: name, default value and a line of documentation (units).
+/// One end of a [`Domain`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Bound {
+    /// No bound on this side (`-inf` or `inf`, always open).
+    Unbounded,
+    /// The end itself is excluded: `(a` or `b)`.
+    Open(f64),
+    /// The end itself is included: `[a` or `b]`.
+    Closed(f64),
+}
+
+/// The values a parameter may take: an interval of the reals, each end open, closed or
+/// unbounded. Declared in a model after the default (`m = 1.0 in (0, inf)`) and
+/// checked by [`Model::validate`], so a value outside it is refused wherever it enters
+/// (`--set`, study files, continuation ranges), not discovered as a strange result.
+///
+/// ```
+/// use ihbm::model::{Bound, Domain};
+///
+/// let stiffness = Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded };
+/// assert_eq!(stiffness.to_string(), "[0, inf)");
+/// assert!(stiffness.contains(0.0) && stiffness.contains(1e300) && !stiffness.contains(-1e-9));
+/// assert!(Domain::ANY.contains(-5.0));
+/// assert!(!Domain::ANY.contains(f64::NAN));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Domain {
+    /// The lower end.
+    pub lower: Bound,
+    /// The upper end.
+    pub upper: Bound,
+}
+
+impl Domain {
+    /// All reals, `(-inf, inf)`: the domain of a parameter that declares none.
+    pub const ANY: Domain = Domain { lower: Bound::Unbounded, upper: Bound::Unbounded };
+
+    /// Whether `x` lies in the domain (NaN never does).
+    pub fn contains(&self, x: f64) -> bool {
+        let above = match self.lower {
+            Bound::Unbounded => !x.is_nan(),
+            Bound::Open(a) => x > a,
+            Bound::Closed(a) => x >= a,
+        };
+        let below = match self.upper {
+            Bound::Unbounded => !x.is_nan(),
+            Bound::Open(b) => x < b,
+            Bound::Closed(b) => x <= b,
+        };
+        above && below
+    }
+
+    /// Whether this is [`Domain::ANY`] (nothing declared, nothing to check).
+    pub fn is_any(&self) -> bool {
+        *self == Domain::ANY
+    }
+}
+
+impl std::fmt::Display for Domain {
+    /// Interval notation, `(0, inf)`, `[0, 2]`, `(-inf, 1]`, as the model language
+    /// reads it back (in quotes when half-open: `in "[0, inf)"`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        use crate::error::Num;
+        match self.lower {
+            Bound::Unbounded => write!(f, "(-inf, ")?,
+            Bound::Open(a) => write!(f, "({}, ", Num(a))?,
+            Bound::Closed(a) => write!(f, "[{}, ", Num(a))?,
+        }
+        match self.upper {
+            Bound::Unbounded => write!(f, "inf)"),
+            Bound::Open(b) => write!(f, "{})", Num(b)),
+            Bound::Closed(b) => write!(f, "{}]", Num(b)),
+        }
+    }
+}
+
+/// A declared parameter: name, default value, domain and a line of documentation
+/// (units).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamInfo {
     /// Name used by `--set NAME=VALUE` and study files.
     pub name: Text,
-    /// The declared default value.
+    /// The declared default value (inside `domain`).
     pub default: f64,
     /// What it is, with units.
     pub doc: Text,
+    /// The values it may take ([`Domain::ANY`] if the model declares none).
+    pub domain: Domain,
 }
 
 /// An oscillator whose periodic steady state the solvers can compute.
@@ -70,7 +149,7 @@ pub struct ParamInfo {
 /// The book's chapter "Writing your own model" builds an n-mass chain that way.
 ///
 /// ```
-/// use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+/// use ihbm::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
 /// use num_dual::DualNum;
 /// use std::borrow::Cow::Borrowed;
 ///
@@ -83,10 +162,14 @@ pub struct ParamInfo {
 ///     fn dofs(&self) -> &[Text] { &[Borrowed("x")] }
 ///     fn params_info(&self) -> &[ParamInfo] {
 ///         const P: &[ParamInfo] = &[
-///             ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass (kg)") },
-///             ParamInfo { name: Borrowed("c"), default: 0.1, doc: Borrowed("damping (N s/m)") },
-///             ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("stiffness (N/m)") },
-///             ParamInfo { name: Borrowed("F"), default: 1.0, doc: Borrowed("force amplitude (N)") },
+///             ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass (kg)"),
+///                         domain: Domain { lower: Bound::Open(0.0), upper: Bound::Unbounded } },
+///             ParamInfo { name: Borrowed("c"), default: 0.1, doc: Borrowed("damping (N s/m)"),
+///                         domain: Domain::ANY },
+///             ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("stiffness (N/m)"),
+///                         domain: Domain::ANY },
+///             ParamInfo { name: Borrowed("F"), default: 1.0, doc: Borrowed("force amplitude (N)"),
+///                         domain: Domain::ANY },
 ///         ];
 ///         P
 ///     }
@@ -118,6 +201,11 @@ pub struct ParamInfo {
 /// m.set_param("k", 4.0).unwrap();
 /// assert_eq!(m.param("k").unwrap(), 4.0);
 /// assert!(m.set_param("q", 1.0).is_err());
+/// // A mass is positive: the domain refuses -1 (and `validate` any value set otherwise).
+/// let e = m.set_param("m", -1.0).unwrap_err().to_string();
+/// assert!(e.contains("a value in (0, inf) (the domain model 'linear' declares for m)"), "{e}");
+/// m.set_param_value(0, -1.0);
+/// assert!(m.validate().is_err());
 /// ```
 pub trait Model: Send + Sync {
     /// A short name (the CLI's model name for built-in models).
@@ -235,7 +323,8 @@ pub trait Model: Send + Sync {
         Ok(self.param_value(self.param_index(name)?))
     }
 
-    /// Set the parameter called `name`; unknown names and non-finite values are errors.
+    /// Set the parameter called `name`; unknown names, non-finite values and values
+    /// outside the parameter's [`Domain`] are errors (the value is not set).
     fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
         let i = self.param_index(name)?;
         if !value.is_finite() {
@@ -245,6 +334,7 @@ pub trait Model: Send + Sync {
                 expected: "a finite number".into(),
             });
         }
+        check_domain(self.name(), &self.params_info()[i], &param_what(self, i), value)?;
         self.set_param_value(i, value);
         Ok(())
     }
@@ -263,10 +353,10 @@ pub trait Model: Send + Sync {
         })
     }
 
-    /// Check what the solvers rely on: finite parameters and fractional orders in
-    /// [0, 2]. Called by every solver entry point. (That there is one equation per DOF
-    /// is a property of `residual`, which writes `dofs().len()` outputs; the macro
-    /// checks it at compile time.)
+    /// Check what the solvers rely on: finite parameters, each in its declared
+    /// [`Domain`], and fractional orders in [0, 2]. Called by every solver entry point.
+    /// (That there is one equation per DOF is a property of `residual`, which writes
+    /// `dofs().len()` outputs; the macro checks it at compile time.)
     fn validate(&self) -> Result<(), Error> {
         for (i, info) in self.params_info().iter().enumerate() {
             let v = self.param_value(i);
@@ -277,6 +367,7 @@ pub trait Model: Send + Sync {
                     expected: "a finite number".into(),
                 });
             }
+            check_domain(self.name(), info, &param_what(self, i), v)?;
         }
         for s in self.signals() {
             if let Order::Param(i) = s.order {
@@ -292,6 +383,35 @@ pub trait Model: Send + Sync {
         }
         Ok(())
     }
+}
+
+/// "fractional order p" for a parameter some signal takes as its order, else
+/// "parameter k": how messages name parameter `i` of `model`.
+fn param_what<M: Model + ?Sized>(model: &M, i: usize) -> String {
+    let name = &model.params_info()[i].name;
+    if model.signals().iter().any(|s| s.order == Order::Param(i)) {
+        format!("fractional order {name}")
+    } else {
+        format!("parameter {name}")
+    }
+}
+
+/// Refuse `value` for parameter `info` of model `model` if it lies outside the declared
+/// domain: the one message for every place a value enters (`set_param`, `validate`,
+/// the ends of a continuation range); `what` names the value ("parameter m1", "end of
+/// the range of m1").
+pub fn check_domain(model: &str, info: &ParamInfo, what: &str, value: f64) -> Result<(), Error> {
+    if info.domain.contains(value) {
+        return Ok(());
+    }
+    Err(Error::InvalidValue {
+        what: what.to_string(),
+        value: crate::error::Num(value).to_string(),
+        expected: format!(
+            "a value in {} (the domain model '{model}' declares for {})",
+            info.domain, info.name
+        ),
+    })
 }
 
 /// `Σ c · x[d]` over `terms`: the value of a linear combination of DOFs.

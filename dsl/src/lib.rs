@@ -157,4 +157,75 @@ mod tests {
         assert_eq!(e[0].line, 1);
         assert!(e[0].message.contains("nested more than"), "{}", e[0].message);
     }
+
+    use crate::parse::DomainDecl;
+
+    /// The domain of the one parameter `a` declared as `decl` (`a = ...`).
+    fn domain(decl: &str) -> Result<Option<DomainDecl>, (usize, usize, String)> {
+        let text = format!(
+            "struct S {{ params {{\n{decl} }} dofs {{ x }} equations {{ a * x = 0.0; }} }}"
+        );
+        match super::read(&text) {
+            Ok(c) => Ok(c.def.params[0].domain),
+            Err(e) => Err((e[0].line, e[0].column, e[0].message.clone())),
+        }
+    }
+
+    #[test]
+    fn domains_in_every_form() {
+        let d = |lower, upper| Ok(Some(DomainDecl { lower, upper }));
+        assert_eq!(domain("a = 1.0"), Ok(None));
+        assert_eq!(domain("a = 1.0 in (0, inf)"), d(Some((0.0, false)), None));
+        assert_eq!(domain("a = 1.5 in [1, 2]"), d(Some((1.0, true)), Some((2.0, true))));
+        assert_eq!(domain("a = -3 in (-inf, -1e-3)"), d(None, Some((-1e-3, false))));
+        assert_eq!(domain("a = 0 in \"[0, inf)\""), d(Some((0.0, true)), None));
+        assert_eq!(domain("a = 2 in \" ( 1.5 ,2 ] \""), d(Some((1.5, false)), Some((2.0, true))));
+        assert_eq!(domain("a = 2 in [2, 2]"), d(Some((2.0, true)), Some((2.0, true))));
+        assert_eq!(domain("a = 5 in \"(-inf, inf)\""), d(None, None));
+    }
+
+    #[test]
+    fn domain_errors_point_at_the_offending_token() {
+        let err = |decl: &str| domain(decl).unwrap_err();
+        // Line 2 is the declaration; columns count from its start.
+        let (l, c, m) = err("a = 0.5 in (1, 2)");
+        assert_eq!((l, c), (2, 5), "{m}");
+        assert!(m.contains("default 0.5 of `a` is outside its declared domain (1, 2)"), "{m}");
+        let (l, c, m) = err("a = 0.5 in (2, 1)");
+        assert_eq!((l, c), (2, 13), "{m}");
+        assert!(m.contains("lower end 2 is above its upper end 1"), "{m}");
+        let (_, c, m) = err("a = 1 in (1, 1)");
+        assert_eq!(c, 11, "{m}");
+        assert!(m.contains("empty"), "{m}");
+        let (_, c, m) = err("a = 1 in (inf, inf)");
+        assert_eq!(c, 11, "{m}");
+        assert!(m.contains("its lower end is `inf`"), "{m}");
+        let (_, c, m) = err("a = 1 in (0, x)");
+        assert_eq!(c, 14, "{m}");
+        assert!(m.contains("`x` is not a bound"), "{m}");
+        let (_, c, m) = err("a = 1 in [0, inf]");
+        assert_eq!(c, 17, "{m}");
+        assert!(m.contains("infinite end of a domain is open"), "{m}");
+        let (_, c, m) = err("a = 1 in [-inf, 2]");
+        assert_eq!(c, 10, "{m}");
+        assert!(m.contains("infinite end"), "{m}");
+        let (_, c, m) = err("a = 1 in 0..1");
+        assert_eq!(c, 10, "{m}");
+        assert!(m.contains("expected a domain after `in`"), "{m}");
+        // Inside a string: at the string (as the macro can only do).
+        let (_, c, m) = err("a = 1 in \"[0, nan)\"");
+        assert_eq!(c, 10, "{m}");
+        assert!(m.contains("`nan` is not a bound"), "{m}");
+        let (_, c, m) = err("a = 1 in \"[-inf, 0)\"");
+        assert_eq!(c, 10, "{m}");
+        assert!(m.contains("infinite end"), "{m}");
+        let (_, _, m) = err("a = 1 in \"[0, 1\"");
+        assert!(m.contains("expected `)` or `]`"), "{m}");
+        let (_, _, m) = err("a = 1 in \"[0 1]\"");
+        assert!(m.contains("expected `,`"), "{m}");
+        let (_, _, m) = err("a = 1 in \"[0, 1, 2]\"");
+        assert!(m.contains("`1, 2` is not a bound"), "{m}");
+        let (_, _, m) = err("a = 1 in \"\"");
+        assert!(m.contains("expected `(` or `[`"), "{m}");
+    }
 }

@@ -6,7 +6,7 @@ mod check;
 mod residual;
 
 use ihbm_dsl::analyze::{Analysis, OrderKey};
-use ihbm_dsl::parse::ModelDef;
+use ihbm_dsl::parse::{DomainDecl, ModelDef};
 use ihbm_dsl::{equation_text, kebab};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
@@ -102,16 +102,36 @@ fn struct_and_default(def: &ModelDef, eq_text: &[String]) -> TokenStream {
     }
 }
 
+/// The declared domain as a `Domain` constant (`Domain::ANY` if none is declared).
+fn domain(d: Option<&DomainDecl>) -> TokenStream {
+    let Some(d) = d else { return quote!(::ihbm::model::Domain::ANY) };
+    let end = |e: Option<(f64, bool)>| match e {
+        None => quote!(::ihbm::model::Bound::Unbounded),
+        Some((v, true)) => {
+            let v = float(v);
+            quote!(::ihbm::model::Bound::Closed(#v))
+        }
+        Some((v, false)) => {
+            let v = float(v);
+            quote!(::ihbm::model::Bound::Open(#v))
+        }
+    };
+    let (lower, upper) = (end(d.lower), end(d.upper));
+    quote!(::ihbm::model::Domain { lower: #lower, upper: #upper })
+}
+
 /// `params_info`, `param_value` and `set_param_value`: parameter `i` is field `i`.
 fn param_access(def: &ModelDef, model_name: &str) -> TokenStream {
     let infos = def.params.iter().map(|p| {
         let name = p.name.to_string();
         let v = float(p.default);
         let doc = &p.doc;
+        let domain = domain(p.domain.as_ref());
         quote!(::ihbm::model::ParamInfo {
             name: ::std::borrow::Cow::Borrowed(#name),
             default: #v,
             doc: ::std::borrow::Cow::Borrowed(#doc),
+            domain: #domain,
         })
     });
     let nparams = def.params.len();

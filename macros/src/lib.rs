@@ -23,7 +23,9 @@ use proc_macro::TokenStream;
 ///     pub struct MyModel {
 ///         params {
 ///             /// doc (units): becomes the field doc and `ParamInfo::doc`
-///             m = 1.0, c = 0.1, k = 1.0, k3 = 1.0, h = 0.1, p = 0.5, F = 0.5,
+///             m = 1.0 in (0, inf),    // optional domain: `(`/`)` open, `[`/`]` closed,
+///             c = 0.1 in "[0, inf)",  // half-open quoted (Rust brackets must pair)
+///             k = 1.0, k3 = 1.0, h = 0.1, p = 0.5 in [0, 2], F = 0.5,
 ///         }
 ///         dofs { x }
 ///         let v = D(x, 1);            // aliases, expanded where used

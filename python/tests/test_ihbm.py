@@ -136,6 +136,11 @@ def test_errors_are_exceptions_with_the_librarys_messages(tmp_path):
         ihbm.Model.file(tmp_path / "missing.ihbm")
     with pytest.raises(ihbm.IhbmError, match="invalid scheme"):
         car.simulate(omega=8.0, scheme="rk99")
+    # a value outside the domain the model declares, wherever it enters
+    with pytest.raises(ihbm.IhbmError, match=r"parameter m1: -240 \(expected a value in \(0, inf\)"):
+        car.solve(omega=8.0, set={"m1": -240.0})
+    with pytest.raises(ihbm.IhbmError, match=r"end of the range of c: -1 .*\[0, inf\)"):
+        car.sweep_param("c", -1.0, 100.0, omega=8.0)
     assert issubclass(ihbm.IhbmError, ValueError)
 
 

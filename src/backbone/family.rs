@@ -161,8 +161,8 @@ pub struct CycleFamily {
 /// The family of limit cycles of `model` as parameter `opts.param` goes from
 /// `opts.from` to `opts.to`; see the module documentation.
 ///
-/// Errors for bad input (an unknown parameter, an empty or non-finite range, a
-/// frequency guess that is not positive) and when there is no cycle at `opts.from`
+/// Errors for bad input (an unknown parameter, an empty or non-finite range, a range
+/// outside the parameter's domain, a frequency guess that is not positive) and when there is no cycle at `opts.from`
 /// near the guess, or it is the equilibrium itself. A family that ends before `to`
 /// is not an error: it says why ([`CycleFamily::ended`]) and keeps its points.
 pub fn cycles<M: Model + Clone>(model: &M, opts: &FamilyOptions) -> Result<CycleFamily> {
@@ -183,6 +183,12 @@ pub fn cycles_with<M: Model + Clone>(
             value: format!("{from} to {to}"),
             expected: "two different finite values".into(),
         });
+    }
+    // The domain is an interval: with both ends in it, so is the whole range.
+    let info = &model.params_info()[index];
+    for v in [from, to] {
+        let what = format!("end of the range of {}", opts.param);
+        crate::model::check_domain(model.name(), info, &what, v)?;
     }
     let mut m0 = model.clone();
     m0.set_param_value(index, from);

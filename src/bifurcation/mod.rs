@@ -360,6 +360,10 @@ pub fn fold_curves_with<M: Model + Clone>(
         });
     }
     let (lo, hi) = (from.min(to), from.max(to));
+    // The domain is an interval: with both ends in it, so is the whole range.
+    for v in [from, to] {
+        crate::model::check_domain(model.name(), pinfo, &format!("end of the range of {name}"), v)?;
+    }
     for v in [from, to] {
         let mut m = model.clone();
         m.set_param_value(param, v);

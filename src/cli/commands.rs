@@ -621,9 +621,11 @@ fn models(reg: &Registry, name: Option<&str>, out: &mut dyn Write) -> Result<(),
     if !m.description().is_empty() {
         w(out, format_args!("  {}\n", m.description()))?;
     }
-    w(out, format_args!("parameters (name = default: meaning):\n"))?;
+    w(out, format_args!("parameters (name = default in domain: meaning):\n"))?;
     for (i, p) in m.params_info().iter().enumerate() {
-        w(out, format_args!("  {:<6} = {:<12} {}\n", p.name, m.param_value(i), p.doc))?;
+        let domain = format!("in {}", p.domain);
+        let v = m.param_value(i);
+        w(out, format_args!("  {:<6} = {:<12} {domain:<17} {}\n", p.name, v, p.doc))?;
     }
     w(out, format_args!("dofs: {}\n", m.dofs().join(", ")))?;
     w(

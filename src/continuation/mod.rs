@@ -308,7 +308,9 @@ pub fn sweep_with<M: Model>(
 
 /// Trace the response of `model` at fixed frequency `omega` as parameter `param`
 /// goes from `from` to `to`. The parameter derivative comes from the dual-number
-/// residual ([`Balance::d_param`](crate::balance::Balance::d_param)).
+/// residual ([`Balance::d_param`](crate::balance::Balance::d_param)). A range with an
+/// end outside the parameter's [`Domain`](crate::model::Domain) is refused before
+/// anything is computed.
 pub fn sweep_param<M: Model>(
     model: &M,
     param: &str,
@@ -372,6 +374,11 @@ fn check_sweep_param<M: Model>(
             if from < 0.0 { from } else { to },
             "a range inside [0, 2]",
         ));
+    }
+    // The domain is an interval: with both ends in it, no step leaves it.
+    let info = &model.params_info()[index];
+    for v in [from, to] {
+        crate::model::check_domain(model.name(), info, &format!("end of the range of {param}"), v)?;
     }
     check_options(opts)?;
     model.validate()?;

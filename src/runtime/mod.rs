@@ -30,7 +30,7 @@
 pub mod tape;
 
 use crate::error::Error;
-use crate::model::{Model, Order, Output, ParamInfo, Signal, Text};
+use crate::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm_dsl::analyze::OrderKey;
 use num_dual::DualNum;
 use std::borrow::Cow::Owned;
@@ -112,6 +112,14 @@ impl RuntimeModel {
                     name: Owned(p.name.to_string()),
                     default: p.default,
                     doc: Owned(p.doc.clone()),
+                    domain: p.domain.map_or(Domain::ANY, |d| {
+                        let end = |e: Option<(f64, bool)>| match e {
+                            None => Bound::Unbounded,
+                            Some((v, true)) => Bound::Closed(v),
+                            Some((v, false)) => Bound::Open(v),
+                        };
+                        Domain { lower: end(d.lower), upper: end(d.upper) }
+                    }),
                 })
                 .collect(),
             values: def.params.iter().map(|p| p.default).collect(),

@@ -49,6 +49,7 @@
 use crate::engine::registry::{AnyModel, Registry};
 use crate::engine::SweepSettings;
 use crate::error::{Error, Result};
+use crate::model::check_domain;
 use crate::report::FreqUnit;
 use crate::timedomain::Scheme;
 use serde::Deserialize;
@@ -601,10 +602,19 @@ impl Study {
             }
             if let Some(fs) = &fig.folds {
                 let name = fs.param.get_ref();
+                let here = |e| self.at(fs.param.span(), format!("figure '{id}': {e}"));
+                if let Some(info) = m.params_info().iter().find(|p| *p.name == **name) {
+                    // an interval: with both ends in the domain, the whole range is
+                    // (a non-finite end has its own message below)
+                    for v in [fs.from, fs.to].into_iter().filter(|v| v.is_finite()) {
+                        let what = format!("end of the folds range of {name}");
+                        check_domain(m.name(), info, &what, v).map_err(here)?;
+                    }
+                }
                 m.clone_box()
                     .set_param(name, fs.from)
                     .and_then(|_| m.clone_box().set_param(name, fs.to))
-                    .map_err(|e| self.at(fs.param.span(), format!("figure '{id}': {e}")))?;
+                    .map_err(here)?;
                 if !(fs.from.is_finite() && fs.to.is_finite() && fs.from != fs.to) {
                     return Err(self.at(
                         fs.param.span(),

@@ -1013,3 +1013,112 @@ fn extreme_numbers_in_messages_are_short() {
     assert!(err.len() < 400, "{} characters: {err}", err.len());
     assert!(!err.contains("00000000"), "{err}");
 }
+
+/// A value outside the domain a model declares for a parameter is bad input wherever
+/// it enters (exit 2, one line naming the value, the domain, the model and the
+/// parameter), before anything is computed; a value on a closed end is accepted.
+#[test]
+fn values_outside_a_parameter_domain_are_refused() {
+    let usage = |args: &[&str], needles: &[&str]| {
+        assert_rejected(args, needles);
+        assert_eq!(ihbm(args).status.code(), Some(2), "{args:?}");
+    };
+    let domain = "a value in (0, inf) (the domain model 'quarter-car' declares for m1)";
+    usage(&["solve", "quarter-car", "--omega", "8", "--set", "m1=-240"], &["m1", "-240", domain]);
+    // an open end is excluded
+    usage(&["solve", "quarter-car", "--omega", "8", "--set", "m1=0"], &["m1", domain]);
+    usage(
+        &["sweep", "base-excited", "--from", "0.5", "--to", "2", "--set", "p=0.5"],
+        &["p", "0.5", "(1, 2)", "base-excited"],
+    );
+    // a closed end is included: no damping is a legitimate quarter car
+    let o = ihbm(&["solve", "quarter-car", "--omega", "8", "--set", "c=0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // continuation in a parameter: a range with an end outside the domain
+    usage(
+        &[
+            "sweep-param",
+            "quarter-car",
+            "--param",
+            "c",
+            "--from",
+            "-100",
+            "--to",
+            "1000",
+            "--omega",
+            "8",
+        ],
+        &["end of the range of c", "-100", "[0, inf)"],
+    );
+    usage(
+        &[
+            "sweep-param",
+            "quarter-car",
+            "--param",
+            "p",
+            "--from",
+            "0.5",
+            "--to",
+            "2.5",
+            "--omega",
+            "8",
+        ],
+        &["2.5", "[0, 2]"],
+    );
+    usage(
+        &[
+            "folds",
+            "quarter-car",
+            "--param",
+            "m2",
+            "--from",
+            "30",
+            "--to",
+            "-30",
+            "--omega-from",
+            "5",
+            "--omega-to",
+            "60",
+        ],
+        &["end of the range of m2", "-30", "(0, inf)"],
+    );
+    // `ihbm models NAME` shows each domain
+    let s = stdout(&ihbm(&["models", "base-excited"]));
+    assert!(s.lines().any(|l| l.trim_start().starts_with('p') && l.contains("in (1, 2)")), "{s}");
+    assert!(
+        s.lines().any(|l| l.trim_start().starts_with("k3") && l.contains("in (-inf, inf)")),
+        "{s}"
+    );
+}
+
+/// In a study file, overrides, varied values and fold ranges outside a domain are
+/// refused by validation with the file, line and column of the entry.
+#[test]
+fn study_values_outside_a_parameter_domain_name_file_line_and_column() {
+    let head = "model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\n";
+    let cases: [(&str, &[&str]); 4] = [
+        ("params = { m2 = -30.0 }\n", &[":3:12:", "m2", "-30", "(0, inf)"]),
+        (
+            "[[figure]]\nid = \"a\"\nvary = \"p\"\nvalues = [0.5, 2.5]\n",
+            &[":5:8:", "figure 'a'", "2.5", "[0, 2]"],
+        ),
+        (
+            "[[figure]]\nid = \"a\"\nvary = \"c\"\nvalues = [-1.0, 0.0]\n",
+            &[":5:8:", "figure 'a'", "-1", "[0, inf)"],
+        ),
+        (
+            "[[figure]]\nid = \"a\"\nfolds = { param = \"kt\", from = -1e5, to = 2e5 }\n",
+            &[":5:19:", "figure 'a'", "folds range of kt", "-100000", "[0, inf)"],
+        ),
+    ];
+    for (i, (text, needles)) in cases.iter().enumerate() {
+        let path = tmp(&format!("domain{i}.toml"));
+        std::fs::write(&path, format!("{head}{text}")).unwrap();
+        let mut n = vec![path.to_str().unwrap()];
+        n.extend_from_slice(needles);
+        let out = tmp("domain_out");
+        let args = ["run", path.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        assert_rejected(&args, &n);
+        assert_eq!(ihbm(&args).status.code(), Some(2), "{text}");
+    }
+}

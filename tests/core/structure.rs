@@ -4,7 +4,7 @@
 //! refused instead of silently giving wrong Jacobians.
 
 use ihbm::balance::Balance;
-use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+use ihbm::model::{Domain, Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
 use num_dual::DualNum;
 use std::borrow::Cow::Borrowed;
@@ -76,8 +76,12 @@ impl Model for Claims {
         DOFS
     }
     fn params_info(&self) -> &[ParamInfo] {
-        const P: &[ParamInfo] =
-            &[ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic") }];
+        const P: &[ParamInfo] = &[ParamInfo {
+            name: Borrowed("k3"),
+            default: 1.0,
+            doc: Borrowed("cubic"),
+            domain: Domain::ANY,
+        }];
         P
     }
     fn param_value(&self, _: usize) -> f64 {
@@ -136,4 +140,33 @@ fn wrong_structure_claims_are_refused() {
     let hidden_omega = Claims { omega_in_forcing_amplitude: true, ..honest };
     let err = Balance::new(&hidden_omega, 3).unwrap_err().to_string();
     assert!(err.contains("explicit_omega"), "{err}");
+}
+
+proptest::proptest! {
+    /// `Domain::contains` against the bounds: an end is in exactly when it is closed,
+    /// every number strictly between the ends is in, every number beyond an end is out,
+    /// an unbounded side holds every finite number, and NaN is never in.
+    #[test]
+    fn domain_contains_agrees_with_its_bounds(
+        a in -1e6..1e6f64,
+        width in 1e-6..1e6f64,
+        t in 0.0..1.0f64,
+        beyond in 1e-6..1e6f64,
+        kinds in (0..3u8, 0..3u8),
+    ) {
+        use ihbm::model::Bound;
+        let b = a + width;
+        let end = |k: u8, v: f64| match k { 0 => Bound::Unbounded, 1 => Bound::Open(v), _ => Bound::Closed(v) };
+        let d = Domain { lower: end(kinds.0, a), upper: end(kinds.1, b) };
+        let inner = a + t * width;
+        if inner > a && inner < b {
+            proptest::prop_assert!(d.contains(inner), "{d} {inner}");
+        }
+        proptest::prop_assert_eq!(d.contains(a), kinds.0 != 1, "{} at {}", d, a);
+        proptest::prop_assert_eq!(d.contains(b), kinds.1 != 1, "{} at {}", d, b);
+        proptest::prop_assert_eq!(d.contains(a - beyond), kinds.0 == 0, "{} below", d);
+        proptest::prop_assert_eq!(d.contains(b + beyond), kinds.1 == 0, "{} above", d);
+        proptest::prop_assert!(!d.contains(f64::NAN));
+        proptest::prop_assert!(Domain::ANY.contains(a) && Domain::ANY.contains(-1e300));
+    }
 }

@@ -20,7 +20,7 @@ fn signal_map<A: Model, B: Model>(dsl: &A, hand: &B) -> Vec<usize> {
     assert_eq!(dsl.dofs(), hand.dofs());
     assert_eq!(dsl.params_info().len(), hand.params_info().len());
     for (a, b) in dsl.params_info().iter().zip(hand.params_info()) {
-        assert_eq!((&a.name, a.default), (&b.name, b.default));
+        assert_eq!((&a.name, a.default, a.domain), (&b.name, b.default, b.domain));
         assert!(!a.doc.is_empty(), "parameter {} has no doc", a.name);
     }
     assert_eq!(dsl.outputs(), hand.outputs());

@@ -5,7 +5,7 @@
 /// Hand-written quarter car (reference paper, eq. 4).
 pub mod quarter_car {
 
-    use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+    use ihbm::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
     use num_dual::DualNum;
     use std::borrow::Cow::Borrowed;
 
@@ -34,39 +34,60 @@ pub mod quarter_car {
     }
 
     const PARAMS: &[ParamInfo] = &[
-        ParamInfo { name: Borrowed("m1"), default: 240.0, doc: Borrowed("body (sprung) mass, kg") },
+        ParamInfo {
+            name: Borrowed("m1"),
+            default: 240.0,
+            doc: Borrowed("body (sprung) mass, kg"),
+            domain: Domain { lower: Bound::Open(0.0), upper: Bound::Unbounded },
+        },
         ParamInfo {
             name: Borrowed("m2"),
             default: 30.0,
             doc: Borrowed("wheel (unsprung) mass, kg"),
+            domain: Domain { lower: Bound::Open(0.0), upper: Bound::Unbounded },
         },
         ParamInfo {
             name: Borrowed("k1"),
             default: 16_000.0,
             doc: Borrowed("linear suspension stiffness, N/m"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
         },
         ParamInfo {
             name: Borrowed("k3"),
             default: 10_000.0,
             doc: Borrowed("cubic suspension stiffness, N/m^3"),
+            domain: Domain::ANY,
         },
         ParamInfo {
             name: Borrowed("kt"),
             default: 160_000.0,
             doc: Borrowed("tyre stiffness, N/m"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
         },
         ParamInfo {
             name: Borrowed("c"),
             default: 1_000.0,
             doc: Borrowed("viscous suspension damping, N s/m"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
         },
         ParamInfo {
             name: Borrowed("h"),
             default: 1_000.0,
             doc: Borrowed("fractional damping coefficient, N s^p/m"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
         },
-        ParamInfo { name: Borrowed("p"), default: 0.5, doc: Borrowed("fractional order") },
-        ParamInfo { name: Borrowed("F"), default: 0.01, doc: Borrowed("road amplitude, m") },
+        ParamInfo {
+            name: Borrowed("p"),
+            default: 0.5,
+            doc: Borrowed("fractional order"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Closed(2.0) },
+        },
+        ParamInfo {
+            name: Borrowed("F"),
+            default: 0.01,
+            doc: Borrowed("road amplitude, m"),
+            domain: Domain::ANY,
+        },
     ];
 
     const Z1: &[(usize, f64)] = &[(0, 1.0)];
@@ -176,7 +197,7 @@ pub mod quarter_car {
 /// Hand-written Duffing and fractional Duffing oscillators.
 pub mod duffing {
 
-    use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+    use ihbm::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
     use num_dual::DualNum;
     use std::borrow::Cow::Borrowed;
 
@@ -200,11 +221,36 @@ pub mod duffing {
     }
 
     const DUFFING_PARAMS: &[ParamInfo] = &[
-        ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass, kg") },
-        ParamInfo { name: Borrowed("c"), default: 0.1, doc: Borrowed("viscous damping, N s/m") },
-        ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("linear stiffness, N/m") },
-        ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic stiffness, N/m^3") },
-        ParamInfo { name: Borrowed("F"), default: 0.5, doc: Borrowed("force amplitude, N") },
+        ParamInfo {
+            name: Borrowed("m"),
+            default: 1.0,
+            doc: Borrowed("mass, kg"),
+            domain: Domain { lower: Bound::Open(0.0), upper: Bound::Unbounded },
+        },
+        ParamInfo {
+            name: Borrowed("c"),
+            default: 0.1,
+            doc: Borrowed("viscous damping, N s/m"),
+            domain: Domain::ANY,
+        },
+        ParamInfo {
+            name: Borrowed("k"),
+            default: 1.0,
+            doc: Borrowed("linear stiffness, N/m"),
+            domain: Domain::ANY,
+        },
+        ParamInfo {
+            name: Borrowed("k3"),
+            default: 1.0,
+            doc: Borrowed("cubic stiffness, N/m^3"),
+            domain: Domain::ANY,
+        },
+        ParamInfo {
+            name: Borrowed("F"),
+            default: 0.5,
+            doc: Borrowed("force amplitude, N"),
+            domain: Domain::ANY,
+        },
     ];
     const DUFFING_SIGNALS: &[Signal] = &[
         Signal { terms: Borrowed(X), order: Order::Int(0) },
@@ -287,17 +333,48 @@ pub mod duffing {
     }
 
     const FRAC_PARAMS: &[ParamInfo] = &[
-        ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("mass, kg") },
-        ParamInfo { name: Borrowed("c"), default: 0.05, doc: Borrowed("viscous damping, N s/m") },
-        ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("linear stiffness, N/m") },
-        ParamInfo { name: Borrowed("k3"), default: 1.0, doc: Borrowed("cubic stiffness, N/m^3") },
+        ParamInfo {
+            name: Borrowed("m"),
+            default: 1.0,
+            doc: Borrowed("mass, kg"),
+            domain: Domain { lower: Bound::Open(0.0), upper: Bound::Unbounded },
+        },
+        ParamInfo {
+            name: Borrowed("c"),
+            default: 0.05,
+            doc: Borrowed("viscous damping, N s/m"),
+            domain: Domain::ANY,
+        },
+        ParamInfo {
+            name: Borrowed("k"),
+            default: 1.0,
+            doc: Borrowed("linear stiffness, N/m"),
+            domain: Domain::ANY,
+        },
+        ParamInfo {
+            name: Borrowed("k3"),
+            default: 1.0,
+            doc: Borrowed("cubic stiffness, N/m^3"),
+            domain: Domain::ANY,
+        },
         ParamInfo {
             name: Borrowed("h"),
             default: 0.1,
             doc: Borrowed("fractional damping coefficient, N s^p/m"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Unbounded },
         },
-        ParamInfo { name: Borrowed("p"), default: 0.5, doc: Borrowed("fractional order") },
-        ParamInfo { name: Borrowed("F"), default: 0.5, doc: Borrowed("force amplitude, N") },
+        ParamInfo {
+            name: Borrowed("p"),
+            default: 0.5,
+            doc: Borrowed("fractional order"),
+            domain: Domain { lower: Bound::Closed(0.0), upper: Bound::Closed(2.0) },
+        },
+        ParamInfo {
+            name: Borrowed("F"),
+            default: 0.5,
+            doc: Borrowed("force amplitude, N"),
+            domain: Domain::ANY,
+        },
     ];
     const FRAC_SIGNALS: &[Signal] = &[
         Signal { terms: Borrowed(X), order: Order::Int(0) },

@@ -186,3 +186,103 @@ fn the_example_model_file_is_the_built_in_quarter_car() {
     let m = RuntimeModel::from_file(&root().join("examples/quarter_car.ihbm")).unwrap();
     twin_of(&QuarterCar::default(), &m, 8.0);
 }
+
+ihbm::oscillator! {
+    /// Every form of a domain, for the twin test below.
+    pub struct Domains {
+        params {
+            /// positive
+            a = 1.0 in (0, inf),
+            /// non-negative, half-open: quoted
+            b = 0.0 in "[0, inf)",
+            /// an open order
+            p = 1.5 in (1, 2),
+            /// closed both ends
+            q = 2 in [0, 2],
+            /// bounded above only
+            r = -1 in "(-inf, -0.5]",
+            /// no domain
+            s = 3.0,
+        }
+        dofs { x }
+        equations { a * D(x, 2) + (b + q + s) * D(x, 1) + D(x, p) - r * x = cos(omega * t); }
+    }
+}
+
+/// A domain written in a model file is the macro's: the same `ParamInfo`, the same
+/// refusals; and `Display` writes a domain in the form the reader reads back.
+#[test]
+fn run_time_domains_are_the_macros_and_display_reads_back() {
+    use ihbm::model::{Bound, Domain};
+    let text = std::fs::read_to_string(root().join("tests/dsl/runtime.rs")).unwrap();
+    let body = bodies(&text).pop().unwrap();
+    let mut rt = RuntimeModel::from_text(&body, "runtime.rs").unwrap();
+    let compiled = Domains::default();
+    assert_eq!(rt.params_info(), compiled.params_info());
+    let d = |lower, upper| Domain { lower, upper };
+    let expected = [
+        d(Bound::Open(0.0), Bound::Unbounded),
+        d(Bound::Closed(0.0), Bound::Unbounded),
+        d(Bound::Open(1.0), Bound::Open(2.0)),
+        d(Bound::Closed(0.0), Bound::Closed(2.0)),
+        d(Bound::Unbounded, Bound::Closed(-0.5)),
+        Domain::ANY,
+    ];
+    let got: Vec<Domain> = compiled.params_info().iter().map(|p| p.domain).collect();
+    assert_eq!(got, expected);
+    let shown: Vec<String> = got.iter().map(|d| d.to_string()).collect();
+    assert_eq!(shown, ["(0, inf)", "[0, inf)", "(1, 2)", "[0, 2]", "(-inf, -0.5]", "(-inf, inf)"]);
+    // the same refusal from both, the value left as it was
+    for (name, bad) in [("a", 0.0), ("b", -1e-12), ("p", 2.0), ("q", 2.5), ("r", -0.4)] {
+        let mut c = compiled.clone();
+        let (e1, e2) = (rt.set_param(name, bad).unwrap_err(), c.set_param(name, bad).unwrap_err());
+        assert_eq!(
+            e1.to_string().replace("'domains'", "'x'"),
+            e2.to_string().replace("'domains'", "'x'")
+        );
+        assert!(matches!(e1, Error::InvalidValue { .. }), "{e1}");
+        assert_eq!(rt.param(name).unwrap(), c.param(name).unwrap());
+    }
+    rt.set_param("b", 0.0).unwrap();
+    rt.set_param("q", 0.0).unwrap();
+    rt.set_param("r", -0.5).unwrap();
+    rt.set_param("s", -1e300).unwrap();
+    // Display round trip: each domain, written into a model file, reads back as itself.
+    let more = [
+        d(Bound::Open(-1e300), Bound::Closed(1e-300)),
+        d(Bound::Closed(0.1), Bound::Open(0.30000000000000004)),
+        d(Bound::Closed(-2.5), Bound::Closed(-2.5)),
+    ];
+    for dom in expected.iter().chain(&more) {
+        let mid = match (dom.lower, dom.upper) {
+            (Bound::Unbounded, Bound::Unbounded) => 0.0,
+            (Bound::Open(a) | Bound::Closed(a), Bound::Unbounded) => a + 1.0,
+            (Bound::Unbounded, Bound::Open(b) | Bound::Closed(b)) => b - 1.0,
+            (Bound::Open(a) | Bound::Closed(a), Bound::Open(b) | Bound::Closed(b)) => {
+                if a == b {
+                    a
+                } else {
+                    a / 2.0 + b / 2.0
+                }
+            }
+        };
+        let text = format!(
+            "struct S {{ params {{ v = {mid:e} in \"{dom}\" }} dofs {{ x }} equations {{ v * x = 0.0; }} }}"
+        );
+        let m = RuntimeModel::from_text(&text, "s.ihbm").unwrap_or_else(|e| panic!("{dom}: {e}"));
+        assert_eq!(m.params_info()[0].domain, *dom, "{text}");
+    }
+}
+
+/// The checks of a model file's domain are the macro's, at the same places (the
+/// compile-fail cases run through the reader above); here, that they come out of
+/// `RuntimeModel` as `origin:line:col`.
+#[test]
+fn a_bad_domain_in_a_model_file_names_its_place() {
+    let text = "struct S {\n  params {\n    p = 0.5 in (1, 2),\n    k = 1 in [0, inf]\n  }\n  dofs { x }\n  equations { k * x + D(x, p) = 0.0; }\n}";
+    let e = RuntimeModel::from_text(text, "s.ihbm").unwrap_err().to_string();
+    assert_eq!(e, "s.ihbm:3:9: the default 0.5 of `p` is outside its declared domain (1, 2)");
+    let text = text.replace("0.5 in", "1.5 in");
+    let e = RuntimeModel::from_text(&text, "s.ihbm").unwrap_err().to_string();
+    assert!(e.starts_with("s.ihbm:4:21: an infinite end of a domain is open"), "{e}");
+}

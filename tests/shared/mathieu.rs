@@ -7,7 +7,7 @@
 
 use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
 use ihbm::continuation::{sweep, SweepOptions};
-use ihbm::model::{Model, Order, Output, ParamInfo, Signal, Text};
+use ihbm::model::{Domain, Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::results::BifurcationKind;
 use num_dual::DualNum;
 use std::borrow::Cow::Borrowed;
@@ -34,11 +34,21 @@ impl Model for Mathieu {
     }
     fn params_info(&self) -> &[ParamInfo] {
         const P: &[ParamInfo] = &[
-            ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed("") },
-            ParamInfo { name: Borrowed("c"), default: 0.05, doc: Borrowed("") },
-            ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed("") },
-            ParamInfo { name: Borrowed("eps"), default: 0.4, doc: Borrowed("") },
-            ParamInfo { name: Borrowed("F"), default: 0.1, doc: Borrowed("") },
+            ParamInfo { name: Borrowed("m"), default: 1.0, doc: Borrowed(""), domain: Domain::ANY },
+            ParamInfo {
+                name: Borrowed("c"),
+                default: 0.05,
+                doc: Borrowed(""),
+                domain: Domain::ANY,
+            },
+            ParamInfo { name: Borrowed("k"), default: 1.0, doc: Borrowed(""), domain: Domain::ANY },
+            ParamInfo {
+                name: Borrowed("eps"),
+                default: 0.4,
+                doc: Borrowed(""),
+                domain: Domain::ANY,
+            },
+            ParamInfo { name: Borrowed("F"), default: 0.1, doc: Borrowed(""), domain: Domain::ANY },
         ];
         P
     }

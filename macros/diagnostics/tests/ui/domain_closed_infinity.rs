@@ -1,0 +1,13 @@
+// An infinite end is never included.
+ihbm_macros::oscillator! {
+    pub struct Bad {
+        params {
+            m = 1.0,
+            k = 1.0 in [0, inf],
+        }
+        dofs { x }
+        equations { m * D(x, 2) + k * x = 0.0; }
+    }
+}
+
+fn main() {}
