@@ -100,7 +100,11 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 let parent = Some((l1.as_str(), &both.symmetric, Branch::Asymmetric));
                 return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
             }
-            let mut watch = progress::CurveProgress::new(pb.clone(), &name);
+            let stop = interrupt_flag();
+            let mut watch = progress::Stoppable {
+                inner: progress::CurveProgress::new(pb.clone(), &name),
+                stop: &stop,
+            };
             let curve = model.sweep(from, to, &settings, &mut watch);
             pb.finish_and_clear();
             let curve = curve.map_err(Failure::from_error)?;
@@ -116,7 +120,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                     w(out, format_args!("warning: {warning}\n"))?;
                 }
             }
-            Ok(())
+            interrupted(&stop, &curve)
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
             distinct_outputs(&args)?;
@@ -126,7 +130,11 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             ));
             let settings = args.cont.settings(args.harmonics);
             let range = ParamRange { param: &param, from, to, omega };
-            let mut watch = progress::CurveProgress::new(pb.clone(), &name);
+            let stop = interrupt_flag();
+            let mut watch = progress::Stoppable {
+                inner: progress::CurveProgress::new(pb.clone(), &name),
+                stop: &stop,
+            };
             let curve =
                 model.sweep_param(&range, &settings, &mut watch).map_err(Failure::from_error);
             pb.finish_and_clear();
@@ -135,7 +143,8 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
-            write_curve(&curve, &name, &title, &args, None, &[], out)
+            write_curve(&curve, &name, &title, &args, None, &[], out)?;
+            interrupted(&stop, &curve)
         }
         Command::Folds { name, param, from, to, omega_from, omega_to, boundary, curve: args } => {
             distinct_outputs(&args)?;
@@ -716,21 +725,44 @@ fn run(
     }
 }
 
-/// A flag the first SIGINT or SIGTERM sets (the study then stops and writes what
-/// finished); a second one ends the process at once with [`super::EXIT_INTERRUPTED`].
-/// Where the handlers cannot be installed the flag is never set and signals keep
-/// their default effect.
+/// After a sweep whose files are written: exit [`super::EXIT_INTERRUPTED`] if a
+/// signal stopped it (its points so far are what was written).
+fn interrupted(stop: &std::sync::atomic::AtomicBool, curve: &Curve) -> Result<(), Failure> {
+    if !stop.load(std::sync::atomic::Ordering::Relaxed) {
+        return Ok(());
+    }
+    Err(Failure {
+        code: super::EXIT_INTERRUPTED,
+        message: format!(
+            "interrupted: the {} point(s) traced so far are written (the last segment ended \
+             'stopped')",
+            curve.points.len()
+        ),
+    })
+}
+
+/// A flag the first SIGINT or SIGTERM sets (the study or sweep then stops and writes
+/// what finished); a second one ends the process at once with
+/// [`super::EXIT_INTERRUPTED`]. The handlers are installed once per process and the
+/// flag cleared for each command; where they cannot be installed the flag is never
+/// set and signals keep their default effect.
 fn interrupt_flag() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
     use signal_hook::consts::{SIGINT, SIGTERM};
-    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    for sig in [SIGINT, SIGTERM] {
-        // The conditional shutdown first: it acts only once the flag is already set.
-        let _ = signal_hook::flag::register_conditional_shutdown(
-            sig,
-            i32::from(super::EXIT_INTERRUPTED),
-            std::sync::Arc::clone(&flag),
-        );
-        let _ = signal_hook::flag::register(sig, std::sync::Arc::clone(&flag));
-    }
-    flag
+    use std::sync::{atomic::AtomicBool, Arc, OnceLock};
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    let flag = FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        for sig in [SIGINT, SIGTERM] {
+            // The conditional shutdown first: it acts only once the flag is set.
+            let _ = signal_hook::flag::register_conditional_shutdown(
+                sig,
+                i32::from(super::EXIT_INTERRUPTED),
+                Arc::clone(&flag),
+            );
+            let _ = signal_hook::flag::register(sig, Arc::clone(&flag));
+        }
+        flag
+    });
+    flag.store(false, std::sync::atomic::Ordering::Relaxed);
+    Arc::clone(flag)
 }

@@ -5,8 +5,9 @@
 //! that does not parse or is out of range, a malformed study file); 1 when the
 //! computation itself failed (a solve that did not converge — its JSON is still
 //! written — or a study with failed parts, whose finished parts are still written);
-//! 130 when a study was interrupted (SIGINT or SIGTERM: what finished is written and
-//! `summary.md` names the parts that did not; a second signal ends it at once).
+//! 130 when a study or sweep was interrupted (SIGINT or SIGTERM: what finished is
+//! written, a study's `summary.md` names the parts that did not, a sweep's points so
+//! far are its files; a second signal ends it at once).
 //! Every failure prints one line `error: ...` on standard error.
 
 mod args;
@@ -24,7 +25,7 @@ pub const EXIT_USAGE: u8 = 2;
 /// Exit status for a computation that failed (non-converged solve, failed study parts).
 pub const EXIT_FAILED: u8 = 1;
 
-/// Exit status of a study cut short by SIGINT or SIGTERM (128 + SIGINT, as shells
+/// Exit status of a study or sweep cut short by SIGINT or SIGTERM (128 + SIGINT, as shells
 /// report a process the signal ended).
 pub const EXIT_INTERRUPTED: u8 = 130;
 

@@ -70,6 +70,25 @@ impl Observer for CurveProgress {
     }
 }
 
+/// An observer that asks the continuation to stop once `stop` is set (by a signal
+/// handler, say), and otherwise defers to `inner`.
+pub struct Stoppable<'a, O> {
+    /// The observer seeing every event until then.
+    pub inner: O,
+    /// The flag.
+    pub stop: &'a std::sync::atomic::AtomicBool,
+}
+
+impl<O: Observer> Observer for Stoppable<'_, O> {
+    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
+        if self.stop.load(std::sync::atomic::Ordering::Relaxed) {
+            Control::Stop
+        } else {
+            self.inner.observe(event, trace)
+        }
+    }
+}
+
 /// The progress line of a fold-curve analysis after `e`.
 pub fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
     match *e {

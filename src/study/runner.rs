@@ -349,15 +349,10 @@ fn run_jobs(
             let r = match job {
                 Job::Curve(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let mut bar = progress::CurveProgress::new(pb.clone(), c.model.name());
-                    let mut watch =
-                        |e: &crate::continuation::Event, tr: &crate::continuation::Trace| {
-                            if stopped() {
-                                Control::Stop
-                            } else {
-                                crate::continuation::Observer::observe(&mut bar, e, tr)
-                            }
-                        };
+                    let mut watch = progress::Stoppable {
+                        inner: progress::CurveProgress::new(pb.clone(), c.model.name()),
+                        stop,
+                    };
                     let (lo, hi) = p.range;
                     let r = c.model.sweep(lo, hi, &c.sweep, &mut watch);
                     if let Ok(curve) = &r {

@@ -107,3 +107,33 @@ fn a_killed_study_leaves_no_earlier_summary_and_no_half_written_file() {
     let listed: Vec<&str> = summary.lines().filter_map(|l| l.strip_prefix("- ")).collect();
     assert!(!listed.is_empty(), "{summary}");
 }
+
+/// A sweep stopped by SIGINT writes the points it has traced (its segment ended
+/// "stopped") and exits 130. The half car at N = 60 takes tens of seconds; the
+/// signal comes after one.
+#[test]
+fn an_interrupted_sweep_writes_its_points_so_far() {
+    let json = tmp("interrupted-sweep.json");
+    let _ = std::fs::remove_file(&json);
+    let child = Command::new(env!("CARGO_BIN_EXE_ihbm"))
+        .args(["sweep", "half-car", "--from", "1", "--to", "100", "--harmonics", "60", "--json"])
+        .arg(&json)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    signal(&child, "-INT");
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(
+        err.starts_with("error: interrupted: ") && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let segs = v["segments"].as_array().unwrap();
+    assert_eq!(segs.last().unwrap()["ended"], "stopped", "{segs:?}");
+    assert!(v["points"].as_array().unwrap().iter().all(|p| p["omega"].as_f64().is_some()));
+}
