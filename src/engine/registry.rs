@@ -34,6 +34,9 @@ pub trait AnyModel: Send + Sync {
     fn set_param(&mut self, name: &str, value: f64) -> Result<()>;
     /// Whether the current values are in the model's domain ([`Model::validate`]).
     fn validate(&self) -> Result<()>;
+    /// Whether `harmonics` fits in memory: the harmonic balance's Jacobians and, with
+    /// `stability`, Hill's matrices (errors name the largest N that fits).
+    fn check_size(&self, harmonics: usize, stability: bool) -> Result<()>;
     /// Named outputs.
     fn outputs(&self) -> &[Output];
     /// Equations as text.
@@ -131,6 +134,13 @@ impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
     }
     fn validate(&self) -> Result<()> {
         self.model.validate()
+    }
+    fn check_size(&self, harmonics: usize, stability: bool) -> Result<()> {
+        crate::balance::check_size(self.model.dofs().len(), harmonics)?;
+        if stability {
+            crate::stability::check_size(&self.model, harmonics)?;
+        }
+        Ok(())
     }
     fn outputs(&self) -> &[Output] {
         self.model.outputs()

@@ -553,6 +553,7 @@ impl Study {
             if let Some(outs) = &fig.outputs {
                 check_outputs(self, m.as_ref(), outs)?;
             }
+            self.check_fits(f, fig, m.as_ref())?;
             match &fig.vary {
                 None if !fig.values.is_empty() => {
                     return Err(self.at(
@@ -765,6 +766,31 @@ impl Study {
         match fig {
             None => (vec![Key::Name(key)], String::new()),
             Some((f, id)) => (fig_key(f, key).to_vec(), format!("figure '{id}': ")),
+        }
+    }
+
+    /// Every harmonic count of figure `f` fits in memory for its model (with Hill's
+    /// matrices when its sweeps check stability), refused at the count: a part too
+    /// large would otherwise fail only when run.
+    fn check_fits(&self, f: usize, fig: &FigureSpec, m: &dyn AnyModel) -> Result<()> {
+        let id = fig.id.get_ref();
+        let stability =
+            self.sweep.merged(fig.sweep.as_ref()).stability != Some(false) && fig.folds.is_none();
+        let fits = |n: usize, path: &[Key]| {
+            m.check_size(n, stability)
+                .map_err(|e| self.at_path(path, format!("figure '{id}': {e}")))
+        };
+        match &fig.vary {
+            Some(v) if v.get_ref() == "harmonics" => {
+                for &x in &fig.values {
+                    fits(x as usize, &fig_key(f, "vary"))?;
+                }
+                Ok(())
+            }
+            _ => match fig.harmonics {
+                Some(n) => fits(n, &fig_key(f, "harmonics")),
+                None => fits(self.harmonics, &[Key::Name("harmonics")]),
+            },
         }
     }
 

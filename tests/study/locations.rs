@@ -49,6 +49,10 @@ fn every_refused_value_is_located() {
             format!("{HEAD}{FIG}vary = \"k3\"\nvalues = @[{}]\n", vec!["1.0"; 1001].join(", ")),
             "1001 values",
         ),
+        // Within N <= 1000 but beyond the memory of Hill's matrices for the quarter
+        // car (the largest N is 872: tests/stability/size.rs), at the count.
+        (format!("{HEAD}{FIG}harmonics = @1000\n"), "Hill stability matrices"),
+        (format!("harmonics = @1000\n{HEAD}{FIG}"), "largest N that fits"),
         // The second figure's value, not the first's.
         (format!("{HEAD}{FIG}[[figure]]\nid = \"b\"\nharmonics = @0\n"), "figure 'b'"),
     ];
