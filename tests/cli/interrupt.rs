@@ -19,13 +19,18 @@ fn start_study(dir: &Path) -> Child {
 
 /// Wait until the run has written the CSV of at least one finished part.
 fn wait_for_a_part(dir: &Path, child: &mut Child) {
-    let t = Instant::now();
-    loop {
-        let csv = std::fs::read_dir(dir).into_iter().flatten().flatten().any(|e| {
+    wait_until(child, || {
+        std::fs::read_dir(dir).into_iter().flatten().flatten().any(|e| {
             let name = e.file_name().to_string_lossy().into_owned();
             name.ends_with(".csv") && !name.contains(".ihbm-tmp")
-        });
-        if csv {
+        })
+    });
+}
+
+fn wait_until(child: &mut Child, done: impl Fn() -> bool) {
+    let t = Instant::now();
+    loop {
+        if done() {
             return;
         }
         assert!(child.try_wait().unwrap().is_none(), "the study ended before any part finished");
@@ -96,7 +101,13 @@ fn a_killed_study_leaves_no_earlier_summary_and_no_half_written_file() {
     std::fs::write(dir.join("summary.md"), "# Study\n\nEvery part of the study finished.\n")
         .unwrap();
     let mut child = start_study(&dir);
-    wait_for_a_part(&dir, &mut child);
+    // Until the running summary lists a finished part (its files are written before
+    // it is listed).
+    let summary = dir.join("summary.md");
+    wait_until(&mut child, || {
+        std::fs::read_to_string(&summary)
+            .is_ok_and(|s| s.contains("(not finished)") && s.contains("\n- "))
+    });
     signal(&child, "-KILL");
     let _ = child.wait();
     assert_whole(&dir);
