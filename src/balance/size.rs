@@ -40,6 +40,22 @@ pub fn check_size(ndof: usize, harmonics: usize) -> Result<()> {
     })
 }
 
+/// The largest `n <= hi` for which `fits(n)`, given that `fits` holds up to some
+/// size and fails beyond it (0 if it fails everywhere): bisection, for estimates
+/// without a closed-form inverse.
+pub(crate) fn largest_fitting(hi: usize, fits: impl Fn(usize) -> bool) -> usize {
+    let (mut lo, mut hi) = (0usize, hi);
+    while lo + 1 < hi {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// `1.3 TB`, `4 GiB`-style sizes for messages.
 pub(crate) fn readable_bytes(b: f64) -> String {
     const UNITS: [&str; 7] = ["B", "kB", "MB", "GB", "TB", "PB", "EB"];

@@ -531,15 +531,7 @@ pub fn check_size<M: Model>(model: &M, harmonics: usize) -> Result<()> {
     if bytes(harmonics) <= limit {
         return Ok(());
     }
-    let (mut lo, mut hi) = (0usize, harmonics);
-    while lo + 1 < hi {
-        let mid = lo + (hi - lo) / 2;
-        if bytes(mid) <= limit {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
+    let lo = crate::balance::size::largest_fitting(harmonics, |n| bytes(n) <= limit);
     Err(Error::TooLarge {
         harmonics,
         dofs: ndof,

@@ -69,7 +69,7 @@ pub use settling::StartUp;
 pub use steady::SteadyOutput;
 pub use weights::Scheme;
 
-use crate::balance::size::readable_bytes;
+use crate::balance::size::{largest_fitting, readable_bytes};
 use crate::balance::MEMORY_LIMIT;
 use crate::error::Error;
 use crate::model::Model;
@@ -248,15 +248,9 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
     if bytes > MEMORY_LIMIT {
         // The most periods whose estimate fits (the estimate grows with the steps).
         let steps_of = |p: usize| (p as f64 * period / dt - 1e-9).ceil() as usize;
-        let (mut lo, mut hi) = (0, opts.periods);
-        while lo + 1 < hi {
-            let mid = lo + (hi - lo) / 2;
-            if estimate_bytes(model, steps_of(mid), period / dt, opts) <= MEMORY_LIMIT {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
+        let lo = largest_fitting(opts.periods, |p| {
+            estimate_bytes(model, steps_of(p), period / dt, opts) <= MEMORY_LIMIT
+        });
         return Err(invalid(
             "time integration",
             format!(
