@@ -300,7 +300,7 @@ impl<'a> RunLog<'a> {
             "# {} (not finished)\n\nThis run has not finished: it is still running, or it was \
              cut short before it could write its summary. The files of the parts listed here \
              are from this run; any other file in this directory is from an earlier one.\n\n\
-             Finished so far ({}):\n\n",
+             Done so far ({}):\n\n",
             self.title,
             done.len()
         );
@@ -397,7 +397,13 @@ fn run_jobs(
             if stopped() && !matches!(r, Done::Compare(_)) {
                 written.unfinished.push(format!("{part}: stopped part way (interrupted)"));
             } else {
-                log.finished(part);
+                let failed = match &r {
+                    Done::Curve(r) => r.is_err(),
+                    Done::Folds(r) => r.is_err(),
+                    Done::Compare(row) => row.failure.is_some(),
+                    Done::Skipped => false,
+                };
+                log.finished(if failed { format!("{part} (failed: no files)") } else { part });
             }
             pb.inc(1);
             (r, t.elapsed().as_secs_f64(), written)
