@@ -59,7 +59,8 @@ pub struct Solution {
     pub history: Vec<IterationRecord>,
 }
 
-fn norm(v: &[f64]) -> f64 {
+/// The Euclidean norm (of residuals and steps).
+pub(crate) fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 

@@ -155,13 +155,13 @@ impl<'m, M: Model> Continuation<'m, M> {
         opts: &SweepOptions,
     ) -> Result<Self> {
         let nh = opts.harmonics;
-        // Sizes first: a count too large for Hill's matrices is refused before the
-        // harmonic balance spends minutes on it.
-        crate::balance::check_size(model.dofs().len(), nh)?;
+        // Sizes first (the harmonic balance's are checked by `Balance`): a count too
+        // large for Hill's matrices is refused before the harmonic balance spends
+        // minutes on it.
+        let mut bal = Balance::with_period(model, nh, opts.period)?;
         if opts.stability.is_some() {
             crate::stability::check_size(model, nh)?;
         }
-        let mut bal = Balance::with_period(model, nh, opts.period)?;
         // A coefficient undefined at an end of the range is an error before any step
         // (inside the range, it ends the segment: `Tracer::assemble`).
         for end in [lo, hi] {

@@ -103,7 +103,7 @@ pub fn solve<M: Model>(
                 let mut r = vec![0.0; hb.len()];
                 hb.residual(&zero, omega, &mut r);
                 failure = Some(e.to_string());
-                (zero, false, 0, r.iter().map(|x| x * x).sum::<f64>().sqrt())
+                (zero, false, 0, corrector::norm(&r))
             }
             Err(e) => return Err(e),
         };

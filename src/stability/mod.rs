@@ -203,20 +203,9 @@ impl Hill {
         let len = 2 * harmonics + 1;
         let m = ndof * len;
         let samples = crate::fourier::model_sample_count(model, harmonics, period);
-        let mut degree = 0usize;
-        let mut fractional = false;
-        let signals: Vec<_> = model
-            .signals()
-            .iter()
-            .map(|s| {
-                match s.order {
-                    Order::Int(q) => degree = degree.max(q as usize),
-                    Order::Param(_) => fractional = true,
-                }
-                (s.terms.to_vec(), s.order)
-            })
-            .collect();
-        let degree = degree.max(1);
+        let degree = degree(model);
+        let fractional = model.signals().iter().any(|s| matches!(s.order, Order::Param(_)));
+        let signals: Vec<_> = model.signals().iter().map(|s| (s.terms.to_vec(), s.order)).collect();
         let neq = ndof;
         let nsig = signals.len();
         let big = degree * m;
@@ -494,6 +483,16 @@ impl Hill {
     }
 }
 
+/// The degree of Hill's matrix polynomial: the model's highest integer derivative
+/// order, at least 1 (fractional orders are not in the polynomial).
+fn degree<M: Model>(model: &M) -> usize {
+    let orders = model.signals().iter().filter_map(|s| match s.order {
+        Order::Int(q) => Some(q as usize),
+        Order::Param(_) => None,
+    });
+    orders.max().unwrap_or(0).max(1)
+}
+
 /// Bytes Hill's method takes for `harmonics` (in floating point, so nothing
 /// overflows): with `m = ndof (2N + 1)` and the companion size `d m` (`d` the highest
 /// derivative order), the projections `ndof · nsig · (2N + 1)²`, the coefficient
@@ -516,16 +515,7 @@ pub fn hill_bytes(ndof: usize, nsig: usize, degree: usize, harmonics: usize) -> 
 pub fn check_size<M: Model>(model: &M, harmonics: usize) -> Result<()> {
     let ndof = model.dofs().len();
     let nsig = model.signals().len();
-    let degree = model
-        .signals()
-        .iter()
-        .filter_map(|s| match s.order {
-            Order::Int(q) => Some(q as usize),
-            Order::Param(_) => None,
-        })
-        .max()
-        .unwrap_or(0)
-        .max(1);
+    let degree = degree(model);
     let limit = crate::balance::MEMORY_LIMIT;
     let bytes = |n: usize| hill_bytes(ndof, nsig, degree, n);
     if bytes(harmonics) <= limit {

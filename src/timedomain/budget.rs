@@ -33,11 +33,6 @@ pub fn reserve(bytes: f64) -> Reservation {
     Reservation { bytes }
 }
 
-/// The bytes held by integrations running now.
-pub fn in_use() -> f64 {
-    *used()
-}
-
 impl Drop for Reservation {
     fn drop(&mut self) {
         let mut held = used();
