@@ -1,13 +1,16 @@
 //! Continuing the exponents of one point to the next along a curve, and the rules
 //! for when that cannot be trusted (book, *Tracking along a curve*).
 
+use super::refinement::normalise;
 use super::*;
 
 impl Hill {
     /// Tracking state from the last full analysis (`self.raw`), if its selection is
-    /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), every one
-    /// left out clearly less so (rank larger by `RANK_GAP`), `q_max·ndof` of them
-    /// counted with conjugates, and well separated from each other, their conjugates and copies.
+    /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), `q_max·ndof`
+    /// of them counted with conjugates, none replaced by a spare, and well separated
+    /// from each other, their conjugates and copies. (How clearly the eigenvalues left
+    /// out rank behind is not asked: near a half-integer `Im λ / Ω` two copies of one
+    /// exponent rank alike, and tracking then continues whichever copy stays centred.)
     /// Otherwise no state (the next point is analysed in full too). The polynomial
     /// part of `T` is the one the full analysis left assembled (exact for fractional
     /// models: the state holds their refined roots).
@@ -18,7 +21,6 @@ impl Hill {
             || self.replaced
             || n_out != self.central_count()
             || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
-            || self.centres.iter().any(|c| c.key() + RANK_GAP > self.next_rank)
         {
             return;
         }
@@ -70,21 +72,42 @@ impl Hill {
         let mut lambdas = Vec::with_capacity(st.lambdas.len());
         let mut vectors = Vec::with_capacity(st.lambdas.len());
         let mut preds = Vec::with_capacity(st.lambdas.len());
+        // The previous values, moved with the copy each exponent continues as.
+        let mut before = st.lambdas.clone();
+        let tie = 1e-12 * omega;
         for (i, (&l, v)) in st.lambdas.iter().zip(&st.vectors).enumerate() {
-            let pred = match &st.prev {
+            let mut pred = match &st.prev {
                 Some((_, p)) => l + (l - p[i]) * ratio,
                 None => l,
             };
-            preds.push(pred);
-            let (ln, vn, _) =
+            let (mut ln, mut vn, _) =
                 self.newton(params, omega, pred, v.clone(), TRACK_ITER, false, exact)?;
-            // Still the centred copy (not a jump to a copy of this or another mode).
+            // The centred copy has moved on (the mode's frequency passed a half-integer
+            // multiple of Ω, its energy now sits nearer the next harmonic): continue as
+            // the next copy, `λ + ijΩ` with the eigenvector shifted by `j` harmonics,
+            // rather than analyse in full.
+            let centre = spread(&vn, self.ndof, self.harmonics).centre;
+            let mut moved = Copy::default();
+            if centre.abs() > 0.5 {
+                moved.shift = centre.round();
+                let w = Complex64::new(0.0, moved.shift * omega);
+                shift_harmonics(&mut vn, self.ndof, self.harmonics, moved.shift as i64);
+                normalise(&mut vn)?;
+                (ln, vn, _) = self.newton(params, omega, ln + w, vn, TRACK_ITER, false, exact)?;
+                pred += w;
+            }
+            if !real(ln, omega) && ln.im < -tie {
+                // One of each conjugate pair, in the upper half plane.
+                ln = ln.conj();
+                vn.iter_mut().for_each(|x| *x = x.conj());
+                pred = pred.conj();
+                moved.conj = true;
+            }
             if spread(&vn, self.ndof, self.harmonics).centre.abs() > CENTRE_MAX {
                 return None;
             }
-            // Stay on the real axis / in the upper half plane as before.
-            let (was_real, is_real) = (real(l, omega), real(ln, omega));
-            if was_real != is_real || !is_real && ln.im < 0.0 {
+            // A real exponent stays real, a complex one complex.
+            if real(l, omega) != real(ln, omega) {
                 return None;
             }
             // The iteration's correction, not the motion: an exponent that moves
@@ -93,6 +116,8 @@ impl Hill {
             if (ln - pred).norm() > 0.25 * st.sep[i] {
                 return None;
             }
+            before[i] = moved.apply(before[i], omega);
+            preds.push(pred);
             lambdas.push(ln);
             vectors.push(vn);
         }
@@ -107,9 +132,60 @@ impl Hill {
         for &c in &lambdas {
             push_central(&mut exps, c, omega);
         }
-        let prev = Some((st.omega, st.lambdas));
+        let prev = Some((st.omega, before));
         self.state = Some(TrackState { omega, lambdas, vectors, sep, prev });
         Some(floquet(exps, omega, opts, true))
+    }
+}
+
+/// The copy of an exponent tracking continues as: `λ + i·shift·Ω`, conjugated if
+/// `conj`.
+#[derive(Debug, Clone, Copy, Default)]
+struct Copy {
+    shift: f64,
+    conj: bool,
+}
+
+impl Copy {
+    fn apply(self, l: Complex64, omega: f64) -> Complex64 {
+        let l = l + Complex64::new(0.0, self.shift * omega);
+        if self.conj {
+            l.conj()
+        } else {
+            l
+        }
+    }
+}
+
+/// The eigenvector of the copy `λ + ijΩ` from that of `λ`: the coefficient of
+/// `e^{ikΩt}` becomes that of `e^{i(k-j)Ωt}` (its centre moves by `-j`); the harmonics
+/// shifted beyond `N` are dropped. Real basis `[a0, a_k, b_k]` per DOF, with
+/// `c_{±k} = (a_k ∓ i b_k)/2`.
+pub(super) fn shift_harmonics(v: &mut [Complex64], ndof: usize, nh: usize, j: i64) {
+    let len = 2 * nh + 1;
+    let i1 = Complex64::new(0.0, 1.0);
+    let zero = Complex64::new(0.0, 0.0);
+    let n = nh as i64;
+    let mut c = vec![zero; len];
+    for b in v.chunks_exact_mut(len).take(ndof) {
+        // c[k + N] is the coefficient of e^{ikΩt}.
+        let coeff = |k: i64| -> Complex64 {
+            match k {
+                0 => b[0],
+                k if k > 0 => (b[k as usize] - i1 * b[nh + k as usize]) * 0.5,
+                k => (b[(-k) as usize] + i1 * b[nh + (-k) as usize]) * 0.5,
+            }
+        };
+        for k in -n..=n {
+            let from = k + j;
+            c[(k + n) as usize] = if from.abs() <= n { coeff(from) } else { zero };
+        }
+        b[0] = c[nh];
+        for k in 1..=nh {
+            let (plus, minus) = (c[nh + k], c[nh - k]);
+            b[k] = plus + minus;
+            b[nh + k] = i1 * (plus - minus);
+        }
     }
 }
 
@@ -119,14 +195,10 @@ pub(super) const TRACK_ITER: usize = 5;
 /// Exponents closer than this (relative to Ω) are not tracked.
 pub(super) const MIN_SEPARATION: f64 = 1e-6;
 
-/// A tracked exponent's eigenvector must stay this centred (`|centre|`), and so must
-/// every exponent a full analysis selects for tracking to start.
-pub(super) const CENTRE_MAX: f64 = 0.4;
-
-/// For tracking to start, every eigenvalue a full analysis leaves out must rank
-/// ([`Spread::key`]) higher by this than every one it keeps (the next copy of a mode
-/// with `|centre| ≤ 0.4` has `|centre|` larger by `1 - 2|centre| ≥ 0.2`).
-pub(super) const RANK_GAP: f64 = 0.2;
+/// A tracked exponent's eigenvector must stay this centred (`|centre|`, after moving
+/// to the next copy when it passes 1/2), and so must every exponent a full analysis
+/// selects for tracking to start.
+pub(super) const CENTRE_MAX: f64 = 0.5;
 
 /// Tracked exponents of the last point.
 pub(super) struct TrackState {
@@ -138,4 +210,33 @@ pub(super) struct TrackState {
     pub(super) sep: Vec<f64>,
     /// The exponents one point earlier (for the linear predictor), and its Ω.
     pub(super) prev: Option<(f64, Vec<Complex64>)>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shifting_harmonics_moves_the_centre_by_the_shift_and_back() {
+        // Energy in harmonics -1..=1 of two DOFs at N = 4: a shift by j = 2 keeps all
+        // of it (centre exactly -2 away) and shifting back restores the vector.
+        let (ndof, nh) = (2, 4);
+        let len = 2 * nh + 1;
+        let mut v = vec![Complex64::new(0.0, 0.0); ndof * len];
+        for d in 0..ndof {
+            let b = &mut v[d * len..(d + 1) * len];
+            b[0] = Complex64::new(0.3 + d as f64, -0.2);
+            b[1] = Complex64::new(0.7, 0.1 * d as f64);
+            b[nh + 1] = Complex64::new(-0.4, 0.5);
+        }
+        let before = spread(&v, ndof, nh).centre;
+        let mut w = v.clone();
+        shift_harmonics(&mut w, ndof, nh, 2);
+        let after = spread(&w, ndof, nh).centre;
+        assert!((after - (before - 2.0)).abs() < 1e-14, "{before} → {after}");
+        shift_harmonics(&mut w, ndof, nh, -2);
+        for (a, b) in v.iter().zip(&w) {
+            assert!((a - b).norm() < 1e-14, "{a} vs {b}");
+        }
+    }
 }
