@@ -147,10 +147,8 @@ pub struct Hill {
     /// The signals whose order is fractional at the current parameters.
     fractional_signals: Vec<usize>,
     cands: Vec<Complex64>,
-    /// [`Spread`] of each selected candidate's eigenvector, and the smallest rank of
-    /// an eigenvalue the selection left out (see [`Hill::select_centred`]).
+    /// [`Spread`] of each selected candidate's eigenvector (see [`Hill::select_centred`]).
     centres: Vec<Spread>,
-    next_rank: f64,
     /// The best-ranked eigenvalues the selection left out (not copies of kept ones, at
     /// most `SPARE_TRIES`): replacements when two kept candidates refine to one root.
     spare: Vec<Complex64>,
@@ -255,7 +253,6 @@ impl Hill {
             fractional_signals: Vec::new(),
             cands: Vec::with_capacity(big),
             centres: Vec::with_capacity(big),
-            next_rank: f64::INFINITY,
             spare: Vec::with_capacity(big),
             replaced: false,
             raw: Vec::with_capacity(big),

@@ -42,7 +42,6 @@ impl Hill {
         mut v0: Option<Vec<Complex64>>,
         max_iter: usize,
     ) -> Option<Complex64> {
-        let tie = 1e-12 * omega;
         let mut start = l0;
         for _ in 0..RECENTRE_TRIES {
             let (v, factored) = match v0.take() {
@@ -53,11 +52,7 @@ impl Hill {
             };
             let (mut l, mut v, _) =
                 self.newton(params, omega, start, v, max_iter, factored, true)?;
-            if l.im < -tie {
-                // One per conjugate pair, in the upper half plane.
-                l = l.conj();
-                v.iter_mut().for_each(|x| *x = x.conj());
-            }
+            to_upper_half(&mut l, &mut v, omega);
             let c = spread(&v, self.ndof, self.harmonics).centre;
             if c.abs() <= 0.5 {
                 return Some(l);
@@ -149,6 +144,18 @@ impl Hill {
         }
         None
     }
+}
+
+/// One exponent of each conjugate pair is kept, the one in the upper half plane:
+/// conjugate `l` and its eigenvector `v` if `l` is below it (beyond rounding, `1e-12·Ω`).
+/// Whether it did.
+pub(super) fn to_upper_half(l: &mut Complex64, v: &mut [Complex64], omega: f64) -> bool {
+    if l.im >= -1e-12 * omega {
+        return false;
+    }
+    *l = l.conj();
+    v.iter_mut().for_each(|x| *x = x.conj());
+    true
 }
 
 /// Restarts of a fractional refinement that lands on an off-centre copy.

@@ -9,9 +9,7 @@ impl Hill {
     /// *Which copy*), smallest rank ([`Spread::key`]) first; among near-equal ranks the larger
     /// real part first, so that a growing exponent is never the one left out. Values
     /// equal modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling,
-    /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres` and
-    /// `self.next_rank` (the smallest rank left out that is not a copy of a kept
-    /// value, infinite if none).
+    /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres`.
     pub(super) fn select_centred(
         &mut self,
         params: &[f64],
@@ -48,7 +46,6 @@ impl Hill {
         self.cands.clear();
         self.centres.clear();
         self.spare.clear();
-        self.next_rank = f64::INFINITY;
         for &(z, c) in &scored {
             let same = self.cands.iter().any(|&k| {
                 let d = fold_into_strip(z - k, omega);
@@ -58,10 +55,6 @@ impl Hill {
                 continue;
             }
             if self.cands.len() == count {
-                // Sorted by rank: the first one left out ranks lowest.
-                if self.next_rank == f64::INFINITY {
-                    self.next_rank = c.key();
-                }
                 // One per conjugate pair, as the refinement takes them.
                 if z.im >= -tie && self.spare.len() < SPARE_TRIES {
                     self.spare.push(z);

@@ -1,7 +1,7 @@
 //! Continuing the exponents of one point to the next along a curve, and the rules
 //! for when that cannot be trusted (book, *Tracking along a curve*).
 
-use super::refinement::normalise;
+use super::refinement::{normalise, to_upper_half};
 use super::*;
 
 impl Hill {
@@ -74,7 +74,6 @@ impl Hill {
         let mut preds = Vec::with_capacity(st.lambdas.len());
         // The previous values, moved with the copy each exponent continues as.
         let mut before = st.lambdas.clone();
-        let tie = 1e-12 * omega;
         for (i, (&l, v)) in st.lambdas.iter().zip(&st.vectors).enumerate() {
             let mut pred = match &st.prev {
                 Some((_, p)) => l + (l - p[i]) * ratio,
@@ -86,8 +85,8 @@ impl Hill {
             // multiple of Ω, its energy now sits nearer the next harmonic): continue as
             // the next copy, `λ + ijΩ` with the eigenvector shifted by `j` harmonics,
             // rather than analyse in full.
-            let centre = spread(&vn, self.ndof, self.harmonics).centre;
-            let mut moved = Copy::default();
+            let mut centre = spread(&vn, self.ndof, self.harmonics).centre;
+            let mut moved = CopyMove::default();
             if centre.abs() > 0.5 {
                 moved.shift = centre.round();
                 let w = Complex64::new(0.0, moved.shift * omega);
@@ -95,15 +94,14 @@ impl Hill {
                 normalise(&mut vn)?;
                 (ln, vn, _) = self.newton(params, omega, ln + w, vn, TRACK_ITER, false, exact)?;
                 pred += w;
+                centre = spread(&vn, self.ndof, self.harmonics).centre;
             }
-            if !real(ln, omega) && ln.im < -tie {
-                // One of each conjugate pair, in the upper half plane.
-                ln = ln.conj();
-                vn.iter_mut().for_each(|x| *x = x.conj());
+            // Conjugation negates the centre: its size is unchanged.
+            if to_upper_half(&mut ln, &mut vn, omega) {
                 pred = pred.conj();
                 moved.conj = true;
             }
-            if spread(&vn, self.ndof, self.harmonics).centre.abs() > CENTRE_MAX {
+            if centre.abs() > CENTRE_MAX {
                 return None;
             }
             // A real exponent stays real, a complex one complex.
@@ -141,12 +139,12 @@ impl Hill {
 /// The copy of an exponent tracking continues as: `λ + i·shift·Ω`, conjugated if
 /// `conj`.
 #[derive(Debug, Clone, Copy, Default)]
-struct Copy {
+struct CopyMove {
     shift: f64,
     conj: bool,
 }
 
-impl Copy {
+impl CopyMove {
     fn apply(self, l: Complex64, omega: f64) -> Complex64 {
         let l = l + Complex64::new(0.0, self.shift * omega);
         if self.conj {
