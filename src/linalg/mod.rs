@@ -1,8 +1,16 @@
-//! Dense LU factorisations: real ([`DenseLu`], faer's allocation-free kernels) and
-//! complex (row-major slices, [`complex_lu_factor`]).
+//! LU factorisations: real dense ([`DenseLu`], faer's allocation-free kernels), band
+//! ([`BandLu`]) and bordered ([`BorderedLu`]: continuation's Jacobian plus its
+//! borders, banded when that pays), and complex dense (row-major slices,
+//! [`complex_lu_factor`]).
 //!
-//! Newton and continuation solve many small systems of the same size; keeping the
+//! Newton and continuation solve many systems of the same size; keeping the
 //! permutation and scratch buffers between solves keeps the hot loop allocation-free.
+
+mod banded;
+mod bordered;
+
+pub use banded::{Band, BandLu};
+pub use bordered::{BlockA, BorderedLu, Columns, DENSE_BELOW};
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::factor;
@@ -258,24 +266,25 @@ pub fn complex_lu_solve_adjoint(a: &[Complex64], n: usize, piv: &[usize], b: &mu
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use faer::linalg::lu::partial_pivoting::solve as faer_solve;
     use faer::perm::PermRef;
+
+    /// Reproducible pseudo-random numbers in [-1, 1] (xorshift) for test matrices.
+    pub(crate) fn xorshift(seed: &mut u64) -> f64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
 
     #[test]
     fn solve_matches_faer_on_a_pivoting_matrix() {
         let n = 23;
         // a generic (pseudo-random) matrix: partial pivoting swaps rows
         let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let vals: Vec<f64> = (0..n * n)
-            .map(|_| {
-                seed ^= seed << 13;
-                seed ^= seed >> 7;
-                seed ^= seed << 17;
-                (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-            })
-            .collect();
+        let vals: Vec<f64> = (0..n * n).map(|_| xorshift(&mut seed)).collect();
         let a = |i: usize, j: usize| vals[i * n + j];
         let mut lu = DenseLu::new(n);
         {
