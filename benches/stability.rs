@@ -15,7 +15,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 mod chains;
-use chains::{Chain10, Chain2, Chain20, Chain5};
+use chains::{Chain10, Chain2, Chain20, Chain40, Chain5};
 
 /// One table row for `model` on `from..to` at `nh` harmonics, then criterion's samples
 /// of the curve with and without stability (`with` false: without only).
@@ -84,7 +84,53 @@ fn chains(c: &mut Criterion) {
         case(c, "chain10", &Chain10::default(), span, nh, big);
         case(c, "chain20", &Chain20::default(), span, nh, big);
     }
+    // The sparse-factorisation case: 920 unknowns, without stability.
+    case(c, "chain40", &Chain40::default(), span, 11, false);
 }
 
-criterion_group!(benches, chains);
+/// The bordered LU of continuation on a chain's block-tridiagonal Jacobian: band
+/// storage and block elimination against the dense factorisation, at the sizes the
+/// choice between them (`linalg::BorderedLu`) is made for: `(blocks, block size)`.
+fn factorisations(c: &mut Criterion) {
+    use ihbm::linalg::{BorderedLu, Columns};
+    let mut g = c.benchmark_group("bordered_lu");
+    g.sample_size(20);
+    for (nb, l) in [(10, 11), (20, 11), (10, 23), (20, 23), (40, 23)] {
+        let na = nb * l;
+        let band = (2 * l - 1, 2 * l - 1);
+        for (kind, lu) in
+            [("band", BorderedLu::new(na, 1, Some(band))), ("dense", BorderedLu::new(na, 1, None))]
+        {
+            let mut lu = lu;
+            let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+            let mut rand = move || {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+            };
+            let name = format!("{kind}_{na}_kl{}", band.0);
+            g.bench_function(name, |b| {
+                b.iter(|| {
+                    let mut a = lu.a_mut();
+                    a.clear();
+                    for j in 0..na {
+                        let lo = (j / l).saturating_sub(1) * l;
+                        let hi = ((j / l + 2) * l).min(na);
+                        if let Some(seg) = a.segment(j, lo, hi - lo) {
+                            seg.iter_mut().for_each(|v| *v = rand());
+                        }
+                    }
+                    lu.set_border_column(0, &vec![1.0; na]);
+                    lu.set_border_row(0, &vec![1.0; na]);
+                    lu.set_corner(0, 0, 0.0);
+                    black_box(lu.factor())
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, chains, factorisations);
 criterion_main!(benches);

@@ -270,6 +270,18 @@ pub trait Model: Send + Sync {
         &[]
     }
 
+    /// Which signals each equation reads: `reads[e * signals().len() + s]` is `true`
+    /// wherever `∂r_e/∂s` may be non-zero (a conservative claim: `true` where terms
+    /// merely might cancel). The solvers then seed signals that no equation reads
+    /// together in one dual pass over the samples (a chain's Jacobian takes three
+    /// passes instead of one per signal). Empty (the default) means "unknown": one
+    /// pass per signal. `oscillator!` derives it from the equations;
+    /// [`Balance::new`](crate::balance::Balance::new) tests a claim at random states
+    /// and rejects one that leaves out a derivative it finds.
+    fn signal_reads(&self) -> &[bool] {
+        &[]
+    }
+
     /// Whether the residual depends on Ω other than through the signals (e.g. a
     /// base excitation `m Ω² F cos Ωt`). `false` lets `∂R/∂Ω` come from the signal
     /// gradients without another pass over the samples. The default `true` is

@@ -197,7 +197,7 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
     // An unforced model reports 1, as the trait does by default.
     let max_k = shape.max_harmonic.max(1) as usize;
     let parametric = shape.parametric_harmonic as usize;
-    let (affine, explicit_omega) = (shape.affine, shape.explicit_omega);
+    let (affine, explicit_omega, reads) = (shape.affine, shape.explicit_omega, shape.reads);
     quote! {
         fn name(&self) -> &str {
             #model_name
@@ -236,6 +236,10 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         }
         fn explicit_omega(&self) -> bool {
             #explicit_omega
+        }
+        fn signal_reads(&self) -> &[bool] {
+            const __READS: &[bool] = &[#(#reads),*];
+            __READS
         }
     }
 }

@@ -14,8 +14,8 @@
 
 use crate::error::{Error, Result};
 use crate::fourier::{apply_factor, coeff_len, model_sample_count, spectral_factor, Fourier};
+use crate::linalg::Columns;
 use crate::model::{Model, Order};
-use faer::prelude::ReborrowMut;
 use faer::MatMut;
 use num_complex::Complex64;
 use num_dual::Dual64;
@@ -76,6 +76,13 @@ pub struct Balance<'m, M: Model> {
     d_params: Vec<Dual64>,
     d_sig: Vec<Dual64>,
     d_out: Vec<Dual64>,
+    /// The signals that are not affine, in groups no equation reads two of: one dual
+    /// pass over the samples seeds a group ([`Model::signal_reads`]).
+    groups: Vec<Vec<usize>>,
+    /// per group and equation, the signal of the group it reads (`g * ndof + e`)
+    group_reader: Vec<Option<usize>>,
+    /// `∂r_e/∂s` is not zero at every sample (`e * nsig + s`, with `grad`)
+    grad_nonzero: Vec<bool>,
     /// which signals a directional pass seeds (reused, so passes do not allocate)
     seeded: Vec<bool>,
     ghat: Vec<Complex64>,
@@ -94,6 +101,8 @@ pub struct Balance<'m, M: Model> {
     sig_valid: bool,
     /// `grad` holds the gradients at the cached point (set by `jacobian`)
     grad_valid: bool,
+    /// equation `e` reads signal `s`, `e * nsig + s` ([`Balance::jacobian_band`])
+    reads: Vec<bool>,
 }
 
 impl<M: Model> std::fmt::Debug for Balance<'_, M> {
@@ -197,6 +206,9 @@ impl<'m, M: Model> Balance<'m, M> {
             d_params: vec![Dual64::from_re(0.0); model.params_info().len()],
             d_sig: vec![Dual64::from_re(0.0); nsig],
             d_out: vec![Dual64::from_re(0.0); ndof],
+            groups: Vec::new(),
+            group_reader: Vec::new(),
+            grad_nonzero: vec![false; ndof * nsig],
             seeded: vec![false; nsig],
             ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
             ext: vec![Complex64::new(0.0, 0.0); 4 * harmonics + 1],
@@ -208,9 +220,11 @@ impl<'m, M: Model> Balance<'m, M> {
             cache_omega: f64::NAN,
             sig_valid: false,
             grad_valid: false,
+            reads: Vec::new(),
         };
         hb.update_orders();
         hb.check_structure()?;
+        hb.adopt_reads()?;
         Ok(hb)
     }
 
@@ -346,37 +360,57 @@ impl<'m, M: Model> Balance<'m, M> {
         self.gradient_pass(omega, false);
     }
 
-    /// Fill `self.grad` (signals filled): one dual pass per signal that is not affine,
-    /// one sample for an affine one. With `want_r`, the residual samples from the
-    /// first pass into `self.res`; `false` if no pass gave them.
+    /// Fill `self.grad` (signals filled): one sample for an affine signal, one pass
+    /// over the samples per group of the others (each signal of a group seeded with
+    /// 1: an equation reads at most one of them, so its derivative is that signal's).
+    /// With `want_r`, the residual samples from the first pass into `self.res`;
+    /// `false` if no pass gave them. Marks in `grad_nonzero` the gradients that are
+    /// not identically zero.
     fn gradient_pass(&mut self, omega: f64, want_r: bool) -> bool {
         for (d, &p) in self.d_params.iter_mut().zip(&self.params) {
             *d = Dual64::from_re(p);
         }
-        let (m, nsig) = (self.m, self.nsig);
+        let (m, nsig, ndof) = (self.m, self.nsig, self.ndof);
+        self.grad_nonzero.fill(false);
         // Affine signals: the gradient at one sample holds for all.
         for s0 in 0..nsig {
             if !self.affine[s0] {
                 continue;
             }
             self.seed_sample(0, s0, omega);
-            for e in 0..self.ndof {
+            for e in 0..ndof {
                 let g = self.d_out[e].eps;
                 self.grad[(e * nsig + s0) * m..][..m].fill(g);
+                self.grad_nonzero[e * nsig + s0] = g != 0.0;
             }
         }
-        // The others: one dual pass over the samples each; the first also gives r.
+        // The others, a group per pass; the first pass also gives r.
         let mut have_r = false;
-        for s0 in 0..nsig {
-            if self.affine[s0] {
-                continue;
+        let w = Dual64::from_re(omega * self.period);
+        for (g, group) in self.groups.iter().enumerate() {
+            self.seeded.fill(false);
+            for &s in group {
+                self.seeded[s] = true;
             }
+            let reader = &self.group_reader[g * ndof..(g + 1) * ndof];
             for j in 0..m {
-                self.seed_sample(j, s0, omega);
-                for e in 0..self.ndof {
-                    self.grad[(e * nsig + s0) * m + j] = self.d_out[e].eps;
+                for (s, d) in self.d_sig.iter_mut().enumerate() {
+                    *d = Dual64::new(self.sig[s * m + j], if self.seeded[s] { 1.0 } else { 0.0 });
+                }
+                self.model.residual(
+                    &self.d_params,
+                    w,
+                    self.phases[j],
+                    &self.d_sig,
+                    &mut self.d_out,
+                );
+                for (e, (out, r)) in self.d_out.iter().zip(reader).enumerate() {
                     if want_r && !have_r {
-                        self.res[e * m + j] = self.d_out[e].re;
+                        self.res[e * m + j] = out.re;
+                    }
+                    if let Some(s0) = *r {
+                        self.grad[(e * nsig + s0) * m + j] = out.eps;
+                        self.grad_nonzero[e * nsig + s0] |= out.eps != 0.0;
                     }
                 }
             }
@@ -386,8 +420,48 @@ impl<'m, M: Model> Balance<'m, M> {
         have_r
     }
 
+    /// The bandwidths `(kl, ku)` of the Jacobian, its unknowns ordered DOF by DOF: a
+    /// block `(e, d)` is non-zero only where equation `e` reads a signal of DOF `d`
+    /// (probed once, at construction), so a chain's Jacobian is block tridiagonal
+    /// and `kl = ku = 2(2N+1) − 1` however long the chain.
+    pub fn jacobian_band(&self) -> (usize, usize) {
+        let (mut below, mut above) = (0usize, 0usize);
+        for (s, sig) in self.model.signals().iter().enumerate() {
+            for e in (0..self.ndof).filter(|&e| self.reads[e * self.nsig + s]) {
+                for &(d, c) in sig.terms.iter() {
+                    if c != 0.0 {
+                        below = below.max(e.saturating_sub(d));
+                        above = above.max(d.saturating_sub(e));
+                    }
+                }
+            }
+        }
+        let l = coeff_len(self.n);
+        let last = self.len().saturating_sub(1);
+        ((below * l + l - 1).min(last), (above * l + l - 1).min(last))
+    }
+
     /// The residual `r` and its Jacobian `∂R/∂A` (written, not accumulated).
     pub fn jacobian(&mut self, a: &[f64], omega: f64, r: &mut [f64], mut jac: MatMut<'_, f64>) {
+        if !self.jacobian_into(a, omega, r, &mut jac) {
+            // a view whose columns are not contiguous: assemble apart, then copy
+            let mut own = faer::Mat::<f64>::zeros(jac.nrows(), jac.ncols());
+            self.jacobian_into(a, omega, r, &mut own.as_mut());
+            jac.copy_from(&own);
+        }
+    }
+
+    /// The residual `r` and its Jacobian `∂R/∂A` into `jac` (cleared first); `false`
+    /// if `jac` does not store a block the Jacobian has (a band narrower than
+    /// [`Balance::jacobian_band`], which a parameter changed since may widen): the
+    /// Jacobian is then incomplete and needs a wider target.
+    pub fn jacobian_into<C: Columns>(
+        &mut self,
+        a: &[f64],
+        omega: f64,
+        r: &mut [f64],
+        jac: &mut C,
+    ) -> bool {
         self.fill_signals(a, omega);
         let (m, nsig) = (self.m, self.nsig);
         if self.gradient_pass(omega, true) {
@@ -395,10 +469,13 @@ impl<'m, M: Model> Balance<'m, M> {
         } else {
             self.residual(a, omega, r);
         }
-        jac.fill(0.0);
+        jac.clear();
         let signals = self.model.signals();
         for e in 0..self.ndof {
             for (s, sig) in signals.iter().enumerate() {
+                if !self.grad_nonzero[e * nsig + s] {
+                    continue;
+                }
                 let g = &self.grad[(e * nsig + s) * m..][..m];
                 let lam = &self.lam[s * (self.n + 1)..][..self.n + 1];
                 let g0 = g[0];
@@ -406,17 +483,22 @@ impl<'m, M: Model> Balance<'m, M> {
                     // a linear term: multiplication by a constant is diagonal
                     if g0 != 0.0 {
                         for &(d, c) in sig.terms.iter() {
-                            add_diagonal_block(jac.rb_mut(), self.n, e, d, c * g0, lam);
+                            if !add_diagonal_block(jac, self.n, e, d, c * g0, lam) {
+                                return false;
+                            }
                         }
                     }
                     continue;
                 }
                 self.fourier.spectrum(g, &mut self.ghat);
                 for &(d, c) in sig.terms.iter() {
-                    add_block(jac.rb_mut(), self.n, e, d, c, &self.ghat, &mut self.ext, lam);
+                    if !add_block(jac, self.n, e, d, c, &self.ghat, &mut self.ext, lam) {
+                        return false;
+                    }
                 }
             }
         }
+        true
     }
 
     /// The model at sample `j` with signal `s0` seeded (dual parts 1), into `d_out`.
@@ -476,7 +558,7 @@ impl<'m, M: Model> Balance<'m, M> {
             for e in 0..self.ndof {
                 for s in 0..nsig {
                     let f = self.orders[s] / omega;
-                    if f == 0.0 {
+                    if f == 0.0 || !self.grad_nonzero[e * nsig + s] {
                         continue;
                     }
                     let g = &self.grad[(e * nsig + s) * m..][..m];
@@ -529,24 +611,29 @@ impl<'m, M: Model> Balance<'m, M> {
 
 /// Add `c · D^q` into the `(e, d)` block (the case of a constant `g`, folded into `c`):
 /// `D^q` maps `(cos kθ, sin kθ)` by the 2×2 rotation-scaling of `λ_k = (ikΩ)^q`.
-fn add_diagonal_block(
-    mut jac: MatMut<'_, f64>,
+/// `false` if `jac` does not store the block.
+fn add_diagonal_block<C: Columns>(
+    jac: &mut C,
     n: usize,
     e: usize,
     d: usize,
     c: f64,
     lam: &[Complex64],
-) {
+) -> bool {
     let l = coeff_len(n);
     let (row0, col0) = (e * l, d * l);
-    jac[(row0, col0)] += c * lam[0].re;
+    let Some(col) = jac.segment(col0, row0, l) else { return false };
+    col[0] += c * lam[0].re;
     for k in 1..=n {
         let (re, im) = (c * lam[k].re, c * lam[k].im);
-        jac[(row0 + k, col0 + k)] += re;
-        jac[(row0 + n + k, col0 + k)] -= im;
-        jac[(row0 + k, col0 + n + k)] += im;
-        jac[(row0 + n + k, col0 + n + k)] += re;
+        let Some(cos) = jac.segment(col0 + k, row0, l) else { return false };
+        cos[k] += re;
+        cos[n + k] -= im;
+        let Some(sin) = jac.segment(col0 + n + k, row0, l) else { return false };
+        sin[k] += im;
+        sin[n + k] += re;
     }
+    true
 }
 
 /// Add `c · P[g] · D^q` into the `(e, d)` block of the Jacobian: column `cos jθ` (or
@@ -554,10 +641,11 @@ fn add_diagonal_block(
 /// `D^q cos jθ = Re(λ_j e^{ijθ})` the product has complex coefficients
 /// `ŵ_k = ĝ_{k-j} û_j + ĝ_{k+j} û_{-j}`. `ghat` holds `ĝ_m` for `m = 0..=2N`;
 /// `ext` (scratch, `4N + 1`) receives `ĝ_m` for `m = -2N..=2N` (`ĝ_{-m} = conj ĝ_m`,
-/// `g` being real), so the inner loop reads two contiguous runs.
+/// `g` being real), so the inner loop reads two contiguous runs. `false` if `jac`
+/// does not store the block.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn add_block(
-    mut jac: MatMut<'_, f64>,
+pub(crate) fn add_block<C: Columns>(
+    jac: &mut C,
     n: usize,
     e: usize,
     d: usize,
@@ -565,7 +653,7 @@ pub(crate) fn add_block(
     ghat: &[Complex64],
     ext: &mut [Complex64],
     lam: &[Complex64],
-) {
+) -> bool {
     let l = coeff_len(n);
     let (row0, col0) = (e * l, d * l);
     let mid = 2 * n;
@@ -575,7 +663,7 @@ pub(crate) fn add_block(
     }
     let (c2, zero) = (2.0 * c, Complex64::new(0.0, 0.0));
     let mut column = |col: usize, j: usize, up: Complex64, um: Complex64| {
-        let mut colv = jac.rb_mut().col_mut(col).subrows_mut(row0, l);
+        let Some(colv) = jac.segment(col, row0, l) else { return false };
         // k = 0: ĝ_{-j} û_j + ĝ_{j} û_{-j}
         let w0 = ext[mid - j] * up + if j == 0 { zero } else { ext[mid + j] * um };
         colv[0] += c * w0.re;
@@ -586,15 +674,18 @@ pub(crate) fn add_block(
             colv[1 + k] += c2 * w.re;
             colv[1 + n + k] -= c2 * w.im;
         }
+        true
     };
-    if lam[0].re != 0.0 {
-        column(col0, 0, lam[0], zero);
+    if lam[0].re != 0.0 && !column(col0, 0, lam[0], zero) {
+        return false;
     }
     for j in 1..=n {
         let up = lam[j] * 0.5;
-        column(col0 + j, j, up, up.conj());
         // sin jθ = (e^{ijθ} - e^{-ijθ}) / 2i
-        let up = lam[j] * Complex64::new(0.0, -0.5);
-        column(col0 + n + j, j, up, up.conj());
+        let vp = lam[j] * Complex64::new(0.0, -0.5);
+        if !(column(col0 + j, j, up, up.conj()) && column(col0 + n + j, j, vp, vp.conj())) {
+            return false;
+        }
     }
+    true
 }

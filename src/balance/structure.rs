@@ -1,10 +1,21 @@
-//! A hand-written model's structure claims ([`Model::affine_signals`],
-//! [`Model::explicit_omega`]) tested before the solvers rely on them.
+//! A model's structure: its claims ([`Model::affine_signals`],
+//! [`Model::explicit_omega`]) tested before the solvers rely on them, and which
+//! equation reads which signal (the Jacobian's block pattern).
 
 use super::Balance;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use num_dual::Dual64;
+
+/// Reproducible pseudo-random numbers in [-1, 1] (xorshift) for the probes.
+fn states(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
 
 impl<M: Model> Balance<'_, M> {
     /// Adopt the model's structure claims ([`Model::affine_signals`],
@@ -26,14 +37,7 @@ impl<M: Model> Balance<'_, M> {
         }
         let (nsig, ndof) = (self.nsig, self.ndof);
         let params: Vec<Dual64> = self.params.iter().map(|&p| Dual64::from_re(p)).collect();
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut rand = move || {
-            // xorshift: reproducible states in [-1, 1]
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        };
+        let mut rand = states(0x2545_f491_4f6c_dd1d);
         let mut sig = vec![Dual64::from_re(0.0); nsig];
         let mut out = vec![Dual64::from_re(0.0); ndof];
         let mut first: Vec<f64> = vec![f64::NAN; ndof * nsig];
@@ -83,5 +87,107 @@ impl<M: Model> Balance<'_, M> {
             *a = c;
         }
         Ok(())
+    }
+}
+
+impl<M: Model> Balance<'_, M> {
+    /// Which equation reads which signal: the model's claim
+    /// ([`Model::signal_reads`]), tested against [`Balance::probe_reads`], or without
+    /// one the probe itself; and from it the groups of signals one dual pass seeds.
+    /// Only a claim groups signals: a probe can miss a derivative that is zero at
+    /// all its states (a dead zone), which would then be added to another's.
+    pub(super) fn adopt_reads(&mut self) -> Result<()> {
+        let (nsig, ndof) = (self.nsig, self.ndof);
+        let probed = self.probe_reads();
+        let claimed = self.model.signal_reads();
+        let varying: Vec<usize> = (0..nsig).filter(|&s| !self.affine[s]).collect();
+        if claimed.is_empty() {
+            self.reads = probed;
+            self.groups = varying.iter().map(|&s| vec![s]).collect();
+            self.group_reader =
+                varying.iter().flat_map(|&s| std::iter::repeat_n(Some(s), ndof)).collect();
+            return Ok(());
+        }
+        let name = self.model.name();
+        if claimed.len() != ndof * nsig {
+            return Err(Error::Other(format!(
+                "model '{name}': signal_reads() has {} entries for {ndof} equations × {nsig} \
+                 signals",
+                claimed.len()
+            )));
+        }
+        if let Some(i) = (0..ndof * nsig).find(|&i| probed[i] && !claimed[i]) {
+            return Err(Error::Other(format!(
+                "model '{name}' says equation {} does not read signal {} (signal_reads), but \
+                 its derivative there is not zero; mark it true or return &[] (the default)",
+                i / nsig,
+                i % nsig
+            )));
+        }
+        self.reads = claimed.to_vec();
+        // greedy colouring: a signal joins the first group none of whose equations it
+        // shares
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut taken: Vec<Vec<bool>> = Vec::new();
+        for &s in &varying {
+            let readers: Vec<usize> = (0..ndof).filter(|&e| claimed[e * nsig + s]).collect();
+            let g = match taken.iter().position(|t| readers.iter().all(|&e| !t[e])) {
+                Some(g) => g,
+                None => {
+                    groups.push(Vec::new());
+                    taken.push(vec![false; ndof]);
+                    groups.len() - 1
+                }
+            };
+            groups[g].push(s);
+            for &e in &readers {
+                taken[g][e] = true;
+            }
+        }
+        self.group_reader = groups
+            .iter()
+            .flat_map(|group| {
+                (0..ndof).map(move |e| group.iter().copied().find(|&s| claimed[e * nsig + s]))
+            })
+            .collect();
+        self.groups = groups;
+        Ok(())
+    }
+
+    /// Which equation reads which signal (`e * nsig + s`): `∂r_e/∂s` non-zero (or not
+    /// a number) at any of three pseudo-random states, each with every parameter moved
+    /// off its value (so that a term whose coefficient is 0 now still counts: a
+    /// continuation may change it). For the analytic expressions models are made of,
+    /// a derivative that vanishes at all three is zero everywhere, but the solvers do
+    /// not rely on it: [`Balance::jacobian_into`] reports a derivative outside the
+    /// pattern's band instead of dropping it.
+    fn probe_reads(&self) -> Vec<bool> {
+        let (nsig, ndof) = (self.nsig, self.ndof);
+        let mut rand = states(0x9e6c_63d0_676a_9a99);
+        let mut reads = vec![false; ndof * nsig];
+        let mut sig = vec![Dual64::from_re(0.0); nsig];
+        let mut out = vec![Dual64::from_re(0.0); ndof];
+        for _ in 0..3 {
+            let params: Vec<Dual64> = self
+                .params
+                .iter()
+                .map(|&p| Dual64::from_re(p + (p.abs() + 1.0) * 0.5 * rand()))
+                .collect();
+            let values: Vec<f64> = (0..nsig).map(|_| 2.0 * rand()).collect();
+            let phase = std::f64::consts::PI * (1.0 + rand());
+            let omega = Dual64::from_re(1.0 + 0.5 * rand());
+            for s0 in 0..nsig {
+                for (s, (d, &v)) in sig.iter_mut().zip(&values).enumerate() {
+                    *d = Dual64::new(v, if s == s0 { 1.0 } else { 0.0 });
+                }
+                self.model.residual(&params, omega, phase, &sig, &mut out);
+                for (e, o) in out.iter().enumerate() {
+                    if o.eps != 0.0 {
+                        reads[e * nsig + s0] = true;
+                    }
+                }
+            }
+        }
+        reads
     }
 }

@@ -10,15 +10,15 @@
 //! takes steps of 10⁵ rad/s at its low end. Residuals are
 //! divided by a reference force (the residual at zero response, i.e. the forcing).
 //!
-//! One LU of the `(n+1)×(n+1)` bordered matrix per Newton iteration; the LU of the
+//! One LU of the `(n+1)×(n+1)` bordered matrix per Newton iteration (banded where
+//! the model's coupling makes the Jacobian so: [`BorderedLu`]); the LU of the
 //! last iteration also gives the tangent (`K t = e_{n+1}`), whose orientation follows
 //! the border row automatically (`border · t > 0`). All buffers live here and are
 //! reused across steps: the stepping loop does not allocate.
 
 use crate::balance::Balance;
-use crate::linalg::DenseLu;
+use crate::linalg::{BorderedLu, DenseLu};
 use crate::model::Model;
-use faer::prelude::ReborrowMut;
 
 /// What is continued.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,7 +50,7 @@ pub(crate) struct Tracer<'m, M: Model> {
     pub iterations: usize,
     /// Chord updates (residual only), all calls together.
     pub chord_steps: usize,
-    lu: DenseLu,
+    lu: BorderedLu,
     rhs: Vec<f64>,
     r: Vec<f64>,
     dl: Vec<f64>,
@@ -60,6 +60,7 @@ pub(crate) struct Tracer<'m, M: Model> {
 impl<'m, M: Model> Tracer<'m, M> {
     pub fn new(bal: Balance<'m, M>, axis: Axis, tol: f64, max_iter: usize) -> Self {
         let n = bal.len();
+        let band = bal.jacobian_band();
         Tracer {
             bal,
             axis,
@@ -73,7 +74,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             max_iter,
             iterations: 0,
             chord_steps: 0,
-            lu: DenseLu::new(n + 1),
+            lu: BorderedLu::new(n, 1, Some(band)),
             rhs: vec![0.0; n + 1],
             r: vec![0.0; n],
             dl: vec![0.0; n],
@@ -203,23 +204,23 @@ impl<'m, M: Model> Tracer<'m, M> {
         let n = self.n;
         let omega = self.unscale(y)?;
         let (cs, cl) = (self.sa / self.sr, self.d_lambda(y) / self.sr);
-        let mut k = self.lu.matrix_mut();
-        self.bal.jacobian(&self.a, omega, &mut self.r, k.rb_mut().submatrix_mut(0, 0, n, n));
+        if !self.bal.jacobian_into(&self.a, omega, &mut self.r, &mut self.lu.a_mut()) {
+            // a parameter made the Jacobian wider than the band probed at the start
+            self.lu.make_dense();
+            self.bal.jacobian_into(&self.a, omega, &mut self.r, &mut self.lu.a_mut());
+        }
+        self.lu.a_mut().scale(cs);
         match self.axis {
             Axis::Omega => self.bal.d_omega(&self.a, omega, &mut self.dl),
             Axis::Param { index, .. } => self.bal.d_param(&self.a, omega, index, &mut self.dl),
         }
-        for j in 0..n {
-            for i in 0..n {
-                k[(i, j)] *= cs;
-            }
-        }
+        self.dl.iter_mut().for_each(|v| *v *= cl);
+        self.lu.set_border_column(0, &self.dl);
+        self.lu.set_border_row(0, &border[..n]);
+        self.lu.set_corner(0, 0, border[n]);
         for i in 0..n {
-            k[(i, n)] = self.dl[i] * cl;
-            k[(n, i)] = border[i];
             self.rhs[i] = self.r[i] / self.sr;
         }
-        k[(n, n)] = border[n];
         self.rhs[n] = dot(border, y) - target;
         Ok(())
     }

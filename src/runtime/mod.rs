@@ -73,6 +73,7 @@ pub struct RuntimeModel {
     max_harmonic: usize,
     parametric_harmonic: usize,
     affine: Vec<bool>,
+    reads: Vec<bool>,
     explicit_omega: bool,
     residual: Program,
     checks: Program,
@@ -144,6 +145,7 @@ impl RuntimeModel {
             max_harmonic: shape.max_harmonic.max(1) as usize,
             parametric_harmonic: shape.parametric_harmonic as usize,
             affine: shape.affine.clone(),
+            reads: shape.reads.clone(),
             explicit_omega: shape.explicit_omega,
             residual: Program::compile(&a.equations, &a.aliases),
             checks: Program::compile(a.checks.iter().map(|c| &c.node), &a.aliases),
@@ -237,6 +239,9 @@ impl Model for RuntimeModel {
     }
     fn affine_signals(&self) -> &[bool] {
         &self.affine
+    }
+    fn signal_reads(&self) -> &[bool] {
+        &self.reads
     }
     fn explicit_omega(&self) -> bool {
         self.explicit_omega

@@ -125,6 +125,8 @@ pub struct Hill {
     ghat: Vec<Complex64>,
     ext: Vec<Complex64>,
     ones: Vec<Complex64>,
+    /// One projection assembled column-major (the block formula writes columns)
+    proj_block: faer::Mat<f64>,
     /// Constant gradient of each projection (`P = g0·I`), if it is one.
     diag: Vec<Option<f64>>,
     /// `M_0 .. M_degree`, row-major `m × m`.
@@ -237,6 +239,7 @@ impl Hill {
             ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
             ext: vec![Complex64::new(0.0, 0.0); 4 * harmonics + 1],
             ones: vec![Complex64::new(1.0, 0.0); harmonics + 1],
+            proj_block: faer::Mat::zeros(len, len),
             diag: vec![None; neq * nsig],
             coef: (0..=degree).map(|_| vec![0.0; m * m]).collect(),
             sparse: (0..degree).map(|_| Vec::with_capacity(m * m)).collect(),

@@ -40,11 +40,17 @@ impl Hill {
                 }
                 self.diag[idx] = None;
                 bal.gradient_spectrum(e, j, &mut self.ghat);
-                let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
-                p.fill(0.0);
-                let view = faer::MatMut::from_row_major_slice_mut(p, len, len);
                 let (g, ext, ones) = (&self.ghat, &mut self.ext, &self.ones);
-                crate::balance::add_block(view, nh, 0, 0, 1.0, g, ext, ones);
+                let mut block = self.proj_block.as_mut();
+                block.fill(0.0);
+                // a block of its own size always holds the whole projection
+                let _ = crate::balance::add_block(&mut block, nh, 0, 0, 1.0, g, ext, ones);
+                let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
+                for (r, row) in p.chunks_exact_mut(len).enumerate() {
+                    for (c, v) in row.iter_mut().enumerate() {
+                        *v = self.proj_block[(r, c)];
+                    }
+                }
             }
         }
         self.set_orders(bal.params());

@@ -1,9 +1,11 @@
 //! The structure shortcuts of the harmonic balance (`Model::affine_signals`,
-//! `Model::explicit_omega`): what the macro derives from the equations, that the
-//! shortcut derivatives equal the general ones, and that a wrong hand-written claim is
-//! refused instead of silently giving wrong Jacobians.
+//! `Model::explicit_omega`, `Model::signal_reads`): what the macro derives from the
+//! equations, that the shortcut derivatives equal the general ones (grouped dual
+//! passes and band storage against one pass per signal and a dense matrix), and that a
+//! wrong hand-written claim is refused instead of silently giving wrong Jacobians.
 
 use ihbm::balance::Balance;
+use ihbm::linalg::Band;
 use ihbm::model::{Domain, Model, Order, Output, ParamInfo, Signal, Text};
 use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
 use num_dual::DualNum;
@@ -63,6 +65,7 @@ fn d_omega_from_gradients_equals_the_dual_pass() {
 #[derive(Clone)]
 struct Claims {
     affine: &'static [bool],
+    reads: &'static [bool],
     explicit_omega: bool,
     omega_in_forcing_amplitude: bool,
 }
@@ -107,6 +110,9 @@ impl Model for Claims {
     fn affine_signals(&self) -> &[bool] {
         self.affine
     }
+    fn signal_reads(&self) -> &[bool] {
+        self.reads
+    }
     fn explicit_omega(&self) -> bool {
         self.explicit_omega
     }
@@ -127,6 +133,7 @@ impl Model for Claims {
 fn wrong_structure_claims_are_refused() {
     let honest = Claims {
         affine: &[false, true, true],
+        reads: &[true, true, true],
         explicit_omega: false,
         omega_in_forcing_amplitude: false,
     };
@@ -137,6 +144,13 @@ fn wrong_structure_claims_are_refused() {
     let wrong_length = Claims { affine: &[true], ..honest.clone() };
     let err = Balance::new(&wrong_length, 3).unwrap_err().to_string();
     assert!(err.contains("1 entries for 3 signals"), "{err}");
+    // the equation reads x' (0.1 x'): a claim that it does not is refused
+    let damping_unread = Claims { reads: &[true, false, true], ..honest.clone() };
+    let err = Balance::new(&damping_unread, 3).unwrap_err().to_string();
+    assert!(err.contains("does not read signal 1"), "{err}");
+    let reads_short = Claims { reads: &[true, true], ..honest.clone() };
+    let err = Balance::new(&reads_short, 3).unwrap_err().to_string();
+    assert!(err.contains("2 entries for 1 equations × 3 signals"), "{err}");
     let hidden_omega = Claims { omega_in_forcing_amplitude: true, ..honest };
     let err = Balance::new(&hidden_omega, 3).unwrap_err().to_string();
     assert!(err.contains("explicit_omega"), "{err}");
@@ -169,4 +183,113 @@ proptest::proptest! {
         proptest::prop_assert!(!d.contains(f64::NAN));
         proptest::prop_assert!(Domain::ANY.contains(a) && Domain::ANY.contains(-1e300));
     }
+}
+
+ihbm::oscillator! {
+    /// Four masses in a row (the band and grouping tests): linear + cubic links.
+    pub struct Row4 {
+        params { m = 1.0, k = 1.0, k3 = 0.5, c = 0.02 }
+        dofs { x1, x2, x3, x4 }
+        let y1 = x1;
+        let s1 = k * y1 + k3 * y1.powi(3) + c * D(y1, 1);
+        let y2 = x2 - x1;
+        let s2 = k * y2 + k3 * y2.powi(3) + c * D(y2, 1);
+        let y3 = x3 - x2;
+        let s3 = k * y3 + k3 * y3.powi(3) + c * D(y3, 1);
+        let y4 = x4 - x3;
+        let s4 = k * y4 + k3 * y4.powi(3) + c * D(y4, 1);
+        equations {
+            m * D(x1, 2) + s1 - s2 = 0.0;
+            m * D(x2, 2) + s2 - s3 = 0.0;
+            m * D(x3, 2) + s3 - s4 = 0.0;
+            m * D(x4, 2) + s4 = cos(omega * t);
+        }
+        outputs { x4 }
+    }
+}
+
+/// `M` with its `signal_reads` claim hidden: the solvers then seed one signal per
+/// dual pass, the reference the grouped passes are compared with.
+struct Unclaimed<M>(M);
+
+impl<M: Model> Model for Unclaimed<M> {
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+    fn dofs(&self) -> &[Text] {
+        self.0.dofs()
+    }
+    fn params_info(&self) -> &[ParamInfo] {
+        self.0.params_info()
+    }
+    fn param_value(&self, i: usize) -> f64 {
+        self.0.param_value(i)
+    }
+    fn set_param_value(&mut self, i: usize, v: f64) {
+        self.0.set_param_value(i, v)
+    }
+    fn signals(&self) -> &[Signal] {
+        self.0.signals()
+    }
+    fn outputs(&self) -> &[Output] {
+        self.0.outputs()
+    }
+    fn degree(&self) -> usize {
+        self.0.degree()
+    }
+    fn affine_signals(&self) -> &[bool] {
+        self.0.affine_signals()
+    }
+    fn explicit_omega(&self) -> bool {
+        self.0.explicit_omega()
+    }
+    fn residual<D: DualNum<Primitive = f64> + Copy>(
+        &self,
+        p: &[D],
+        omega: D,
+        phase: f64,
+        s: &[D],
+        r: &mut [D],
+    ) {
+        self.0.residual(p, omega, phase, s, r)
+    }
+}
+
+#[test]
+fn a_row_of_masses_has_a_block_tridiagonal_jacobian_assembled_in_grouped_passes() {
+    let model = Row4::default();
+    let nh = 3;
+    let l = 2 * nh + 1;
+    // each equation reads its own link and the next: DOFs i - 1, i, i + 1
+    let nsig = model.signals().len();
+    let reads = model.signal_reads();
+    assert_eq!(reads.len(), 4 * nsig);
+    let mut grouped = Balance::new(&model, nh).unwrap();
+    assert_eq!(grouped.jacobian_band(), (2 * l - 1, 2 * l - 1));
+    let hidden = Unclaimed(Row4::default());
+    let mut single = Balance::new(&hidden, nh).unwrap();
+    // the probe finds the same band without the claim
+    assert_eq!(single.jacobian_band(), (2 * l - 1, 2 * l - 1));
+    let n = grouped.len();
+    let a: Vec<f64> = (0..n).map(|i| 0.3 * ((i * 5 + 1) as f64).sin()).collect();
+    let omega = 1.3;
+    let (mut r1, mut r2) = (vec![0.0; n], vec![0.0; n]);
+    let mut dense = faer::Mat::<f64>::zeros(n, n);
+    single.jacobian(&a, omega, &mut r1, dense.as_mut());
+    let mut band = Band::new(n, 2 * l - 1, 2 * l - 1);
+    assert!(grouped.jacobian_into(&a, omega, &mut r2, &mut band));
+    let scale = (0..n).fold(0.0f64, |m, j| m.max(dense[(j, j)].abs()));
+    for j in 0..n {
+        assert!((r1[j] - r2[j]).abs() <= 1e-14 * scale, "residual {j}");
+        for i in 0..n {
+            let (d, b) = (dense[(i, j)], band.get(i, j));
+            assert!((d - b).abs() <= 1e-13 * scale, "({i}, {j}): one per pass {d}, grouped {b}");
+            if i.abs_diff(j) > 2 * l - 1 {
+                assert_eq!(d, 0.0, "({i}, {j}) outside the band");
+            }
+        }
+    }
+    // a band too narrow for the Jacobian is reported, not filled in part
+    let mut narrow = Band::new(n, l - 1, l - 1);
+    assert!(!grouped.jacobian_into(&a, omega, &mut r2, &mut narrow));
 }

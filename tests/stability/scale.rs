@@ -9,6 +9,10 @@
 //!   verdicts must be theirs.
 //! - Fractional orders (`p = 0.5`): the tracked exponents against a full analysis at
 //!   every point of the curve.
+//! - Continuation on the band (chains of 20 masses, whose block-tridiagonal Jacobian
+//!   is factorised as a band): the linear chain's closed form, and the dense corrector
+//!   confirming the nonlinear chain's points. The 10-mass chain at N = 11 above is on
+//!   the band too.
 
 use crate::common as stability_common;
 
@@ -22,7 +26,9 @@ use num_complex::Complex64;
 
 #[path = "../../benches/chains/mod.rs"]
 mod chains;
-use chains::{Chain10, Chain5};
+use chains::{Chain10, Chain20, Chain5};
+use ihbm::corrector::{solve, SolveOptions};
+use ihbm::linalg::BorderedLu;
 
 /// The parameters every chain here shares (those of the generated models).
 struct Link {
@@ -183,6 +189,10 @@ fn chain5_multipliers_are_the_monodromy_ones_on_every_branch() {
 
 #[test]
 fn chain10_multipliers_are_the_monodromy_ones_on_every_branch() {
+    // this curve is continued on the band (230 unknowns, kl = ku = 45)
+    let chain = Chain10::default();
+    let bal = Balance::new(&chain, 11).unwrap();
+    assert!(BorderedLu::new(bal.len(), 1, Some(bal.jacobian_band())).is_banded());
     monodromy_check(&Chain10 { p: 1.0, ..Default::default() }, 10, 11, 0.4, 2.5);
 }
 
@@ -197,4 +207,103 @@ fn chain5_fractional_tracking_agrees_with_full_analyses() {
         curve.points.iter().any(|p| !p.stability.is_stable()),
         "the middle branches are unstable"
     );
+}
+
+/// The unknowns `X_i` of the linear chain (`k3 = 0`) forced by `F cos Ωt` at its last
+/// mass: `(−mΩ² I + κ L) X = F e_n`, `κ = k + c iΩ + h (iΩ)^p` per link, `L` the
+/// grounded chain's tridiagonal (2 on the diagonal but 1 at the free end, −1 beside
+/// it); `x_i = Re(X_i e^{iΩt})`. Thomas's algorithm.
+fn linear_chain(chain: &Chain20, omega: f64) -> Vec<Complex64> {
+    let Chain20 { m, k, c, h, p, F: f, .. } = *chain;
+    let n = chain.dofs().len();
+    let iw = Complex64::new(0.0, omega);
+    let kappa = k + c * iw + h * iw.powf(p);
+    let diag = |i: usize| -m * omega * omega + kappa * if i + 1 < n { 2.0 } else { 1.0 };
+    let off = -kappa;
+    let (mut cp, mut dp) = (vec![Complex64::new(0.0, 0.0); n], vec![Complex64::new(0.0, 0.0); n]);
+    let rhs = |i: usize| Complex64::new(if i + 1 == n { f } else { 0.0 }, 0.0);
+    cp[0] = off / diag(0);
+    dp[0] = rhs(0) / diag(0);
+    for i in 1..n {
+        let den = diag(i) - off * cp[i - 1];
+        cp[i] = off / den;
+        dp[i] = (rhs(i) - off * dp[i - 1]) / den;
+    }
+    let mut x = dp;
+    for i in (0..n - 1).rev() {
+        let next = x[i + 1];
+        x[i] -= cp[i] * next;
+    }
+    x
+}
+
+/// The curve continues on the band ([`BorderedLu`] with the Jacobian's bandwidths):
+/// for a chain of 20 masses at N = 3 (140 unknowns) the Jacobian is block tridiagonal
+/// with `kl = ku = 13`, which pays, and with `k3 = 0` every point must be the closed
+/// form of the linear chain (first harmonic; the others zero).
+#[test]
+fn a_linear_chain_continued_on_the_band_is_its_closed_form() {
+    let model = Chain20 { k3: 0.0, ..Default::default() };
+    let nh = 3;
+    let l = 2 * nh + 1;
+    let bal = Balance::new(&model, nh).unwrap();
+    assert_eq!(bal.jacobian_band(), (2 * l - 1, 2 * l - 1));
+    assert!(BorderedLu::new(bal.len(), 1, Some(bal.jacobian_band())).is_banded());
+    let opts = SweepOptions { harmonics: nh, stability: None, ..Default::default() };
+    let curve = sweep(&model, 0.05, 2.5, &opts).unwrap();
+    assert!(curve.points.len() > 100, "{:?}", curve.stats);
+    for p in &curve.points {
+        let x = linear_chain(&model, p.omega);
+        let big = x.iter().fold(0.0f64, |a, z| a.max(z.norm()));
+        for (i, xi) in x.iter().enumerate() {
+            let c = &p.coeffs[i * l..(i + 1) * l];
+            let got = Complex64::new(c[1], -c[1 + nh]);
+            assert!((got - xi).norm() <= 1e-8 * big, "Ω = {}, x{}: {got} vs {xi}", p.omega, i + 1);
+            for (j, v) in c.iter().enumerate().filter(|&(j, _)| j != 1 && j != 1 + nh) {
+                assert!(v.abs() <= 1e-10 * big, "Ω = {}, x{} coefficient {j}: {v}", p.omega, i + 1);
+            }
+        }
+    }
+}
+
+/// A nonlinear chain of 20 masses at N = 5 (220 unknowns, band 21 + 21) continued on
+/// the band through its folds: every tenth point, and every fold, is confirmed by the
+/// dense Newton corrector ([`ihbm::corrector::solve`], its own LU) started there.
+#[test]
+fn a_nonlinear_chain_on_the_band_gives_points_the_dense_corrector_confirms() {
+    let model = Chain20::default();
+    let nh = 5;
+    let bal = Balance::new(&model, nh).unwrap();
+    assert!(BorderedLu::new(bal.len(), 1, Some(bal.jacobian_band())).is_banded());
+    let opts = SweepOptions { harmonics: nh, stability: None, ..Default::default() };
+    let curve = sweep(&model, 0.05, 1.0, &opts).unwrap();
+    assert!(!curve.folds.is_empty(), "the resonances should fold: {:?}", curve.stats);
+    let so = SolveOptions { harmonics: nh, ..Default::default() };
+    let checked = curve.points.iter().step_by(10).map(|p| (p.omega, &p.coeffs));
+    let folds = curve.folds.iter().map(|f| (f.omega, &f.coeffs));
+    for (omega, coeffs) in checked.chain(folds) {
+        let norm = coeffs.iter().map(|v| v * v).sum::<f64>().sqrt();
+        match solve(&model, omega, &so, Some(coeffs)) {
+            Ok(sol) => {
+                let d = sol.coeffs.iter().zip(coeffs).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
+                assert!(sol.iterations <= 1, "Ω = {omega}: {} iterations", sol.iterations);
+                assert!(d.sqrt() <= 1e-8 * norm, "Ω = {omega}: moved by {}", d.sqrt());
+            }
+            // at a fold the dense Jacobian is singular: the point must then already
+            // be a solution, which the corrector's residual at its start shows
+            Err(ihbm::Error::SingularJacobian { .. }) => {
+                let mut hb = Balance::new(&model, nh).unwrap();
+                let (mut r, mut r0) = (vec![0.0; hb.len()], vec![0.0; hb.len()]);
+                hb.residual(coeffs, omega, &mut r);
+                hb.residual(&vec![0.0; hb.len()], omega, &mut r0);
+                let (rn, scale) = (norm_of(&r), norm_of(&r0));
+                assert!(rn <= 1e-9 * scale, "Ω = {omega}: residual {rn:e} of {scale:e}");
+            }
+            Err(e) => panic!("Ω = {omega}: {e}"),
+        }
+    }
+}
+
+fn norm_of(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }

@@ -99,6 +99,9 @@ pub struct ModelShape {
     pub affine: Vec<bool>,
     /// Whether some equation uses `omega` other than inside `cos/sin(k * omega * t)`.
     pub explicit_omega: bool,
+    /// Per equation and signal (`e * signals + s`): the signal appears in the
+    /// equation (through its aliases too), so its derivative there may be non-zero.
+    pub reads: Vec<bool>,
 }
 
 impl Analysis {
@@ -109,14 +112,17 @@ impl Analysis {
             let s = shape(&alias.node, &aliases);
             aliases.push(s);
         }
-        let s =
-            self.equations.iter().fold(Shape::default(), |acc, e| acc.union(&shape(e, &aliases)));
+        let each: Vec<Shape> = self.equations.iter().map(|e| shape(e, &aliases)).collect();
+        let nsig = self.signals.len();
+        let reads = each.iter().flat_map(|e| (0..nsig).map(|i| e.present.contains(&i))).collect();
+        let s = each.iter().fold(Shape::default(), |acc, e| acc.union(e));
         ModelShape {
             degree: s.degree.max(1),
             max_harmonic: s.max_k,
             parametric_harmonic: s.param_k,
             affine: (0..self.signals.len()).map(|i| !s.nonaffine.contains(&i)).collect(),
             explicit_omega: s.omega,
+            reads,
         }
     }
 }
@@ -176,6 +182,21 @@ mod tests {
         assert_eq!((s.affine.clone(), s.degree), (vec![true, true], 1));
         let s = shape_of("a.sqrt() * x + a.powf(0.5) * y = 0.0; y = 0.0;");
         assert!(!s.explicit_omega);
+    }
+
+    #[test]
+    fn reads_follow_the_equations_and_their_aliases() {
+        // signals in order of appearance: x (0), D(x, 1) (1), y (2); `v` reads x and y
+        let src = "struct S { params { a = 1.0 } dofs { x, y } let v = x * y;
+            equations { D(x, 1) + a * x = 0.0; v + y = 0.0; } }";
+        let a = analyze(&syn::parse_str(src).unwrap()).unwrap();
+        let nsig = a.signals.len();
+        let reads = a.shape().reads;
+        assert_eq!(reads.len(), 2 * nsig);
+        let read = |e: usize| (0..nsig).filter(|&s| reads[e * nsig + s]).count();
+        assert_eq!(read(0), 2, "{reads:?}");
+        assert_eq!(read(1), 2, "{reads:?}");
+        assert!(reads.iter().zip(&reads[nsig..]).any(|(a, b)| a != b));
     }
 
     #[test]
