@@ -144,9 +144,56 @@ pub enum Error {
     #[error("{0}")]
     Study(String),
     /// Anything else with a message.
+    /// Hill's method found no exponents at a point (the point's stability is then
+    /// `Unknown` with this as its reason).
+    #[error("Hill's method at Ω = {}: {failure}", Num(*.omega))]
+    Hill { omega: f64, failure: HillFailure },
+
+    /// A model's structure claim ([`crate::model::Model::affine_signals`],
+    /// `explicit_omega`, `signal_reads`) contradicted at a test state: trusted, it
+    /// would give wrong Jacobians.
+    #[error("model '{model}': {claim} is wrong: {detail}")]
+    WrongClaim { model: String, claim: Claim, detail: String },
+
     #[error("{0}")]
     Other(String),
 }
 
 /// Shorthand for results in this crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Why Hill's method gave no exponents.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum HillFailure {
+    /// The eigendecomposition of the companion matrix did not converge (faer's
+    /// report).
+    #[error("the eigenvalues of the companion matrix failed to converge ({0})")]
+    Eigensolve(String),
+    /// The generalised eigenproblem (a singular leading coefficient) failed.
+    #[error("the generalized eigenvalues failed to converge ({0})")]
+    GeneralizedEigensolve(String),
+    /// The workspace was made for another model size than the balance it was given.
+    #[error("workspace for {samples} samples and {unknowns} unknowns used with a balance of {got_samples} and {got_unknowns}")]
+    Workspace { samples: usize, unknowns: usize, got_samples: usize, got_unknowns: usize },
+}
+
+/// A model's structure claim ([`Error::WrongClaim`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Claim {
+    /// [`crate::model::Model::affine_signals`]
+    AffineSignals,
+    /// [`crate::model::Model::explicit_omega`]
+    ExplicitOmega,
+    /// [`crate::model::Model::signal_reads`]
+    SignalReads,
+}
+
+impl std::fmt::Display for Claim {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Claim::AffineSignals => "affine_signals()",
+            Claim::ExplicitOmega => "explicit_omega()",
+            Claim::SignalReads => "signal_reads()",
+        })
+    }
+}

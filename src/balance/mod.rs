@@ -441,8 +441,14 @@ impl<'m, M: Model> Balance<'m, M> {
         ((below * l + l - 1).min(last), (above * l + l - 1).min(last))
     }
 
-    /// The residual `r` and its Jacobian `∂R/∂A` (written, not accumulated).
+    /// The residual `r` and its Jacobian `∂R/∂A` (written, not accumulated) into
+    /// `jac`, `len × len`; a matrix of another size is filled with NaN (which every
+    /// solver reports as a non-finite step) rather than left in part.
     pub fn jacobian(&mut self, a: &[f64], omega: f64, r: &mut [f64], mut jac: MatMut<'_, f64>) {
+        if jac.nrows() != self.len() || jac.ncols() != self.len() {
+            jac.fill(f64::NAN);
+            return;
+        }
         if !self.jacobian_into(a, omega, r, &mut jac) {
             // a view whose columns are not contiguous: assemble apart, then copy
             let mut own = faer::Mat::<f64>::zeros(jac.nrows(), jac.ncols());

@@ -3,9 +3,13 @@
 //! equation reads which signal (the Jacobian's block pattern).
 
 use super::Balance;
-use crate::error::{Error, Result};
+use crate::error::{Claim, Error, Result};
 use crate::model::Model;
 use num_dual::Dual64;
+
+fn wrong(model: &str, claim: Claim, detail: String) -> Error {
+    Error::WrongClaim { model: model.to_string(), claim, detail }
+}
 
 /// Reproducible pseudo-random numbers in [-1, 1] (xorshift) for the probes.
 fn states(mut seed: u64) -> impl FnMut() -> f64 {
@@ -28,12 +32,11 @@ impl<M: Model> Balance<'_, M> {
             return Ok(());
         }
         if !claimed.is_empty() && claimed.len() != self.nsig {
-            return Err(Error::Other(format!(
-                "model '{}': affine_signals() has {} entries for {} signals",
+            return Err(wrong(
                 model.name(),
-                claimed.len(),
-                self.nsig
-            )));
+                Claim::AffineSignals,
+                format!("{} entries for {} signals", claimed.len(), self.nsig),
+            ));
         }
         let (nsig, ndof) = (self.nsig, self.ndof);
         let params: Vec<Dual64> = self.params.iter().map(|&p| Dual64::from_re(p)).collect();
@@ -53,11 +56,14 @@ impl<M: Model> Balance<'_, M> {
                 // A NaN is no evidence either way: a coefficient undefined at these
                 // parameters, which `Model::check_coefficients` reports by name.
                 if let Some(e) = (0..ndof).find(|&e| out[e].eps != 0.0 && !out[e].eps.is_nan()) {
-                    return Err(Error::Other(format!(
-                        "model '{}' says explicit_omega() == false, but equation {e} changes with Ω at \
-                         fixed signals; return true (the default)",
-                        model.name()
-                    )));
+                    return Err(wrong(
+                        model.name(),
+                        Claim::ExplicitOmega,
+                        format!(
+                            "it says false, but equation {e} changes with Ω at fixed signals; \
+                             return true (the default)"
+                        ),
+                    ));
                 }
             }
             for s0 in (0..nsig).filter(|&s| claimed.get(s) == Some(&true)) {
@@ -70,13 +76,16 @@ impl<M: Model> Balance<'_, M> {
                     if probe == 0 {
                         *g0 = g;
                     } else if (g - *g0).abs() > 1e-12 * g.abs().max(g0.abs()) {
-                        return Err(Error::Other(format!(
-                            "model '{}' says signal {s0} is affine (affine_signals), but \
-                             ∂r{e}/∂s{s0} is {} at one state and {g} at another; mark it \
-                             false or return &[] (the default)",
+                        return Err(wrong(
                             model.name(),
-                            *g0
-                        )));
+                            Claim::AffineSignals,
+                            format!(
+                                "it says signal {s0} is affine, but ∂r{e}/∂s{s0} is {} at one \
+                                 state and {g} at another; mark it false or return &[] (the \
+                                 default)",
+                                *g0
+                            ),
+                        ));
                     }
                 }
             }
@@ -110,19 +119,23 @@ impl<M: Model> Balance<'_, M> {
         }
         let name = self.model.name();
         if claimed.len() != ndof * nsig {
-            return Err(Error::Other(format!(
-                "model '{name}': signal_reads() has {} entries for {ndof} equations × {nsig} \
-                 signals",
-                claimed.len()
-            )));
+            return Err(wrong(
+                name,
+                Claim::SignalReads,
+                format!("{} entries for {ndof} equations × {nsig} signals", claimed.len()),
+            ));
         }
         if let Some(i) = (0..ndof * nsig).find(|&i| probed[i] && !claimed[i]) {
-            return Err(Error::Other(format!(
-                "model '{name}' says equation {} does not read signal {} (signal_reads), but \
-                 its derivative there is not zero; mark it true or return &[] (the default)",
-                i / nsig,
-                i % nsig
-            )));
+            return Err(wrong(
+                name,
+                Claim::SignalReads,
+                format!(
+                    "it says equation {} does not read signal {}, but its derivative there is \
+                     not zero; mark it true or return &[] (the default)",
+                    i / nsig,
+                    i % nsig
+                ),
+            ));
         }
         self.reads = claimed.to_vec();
         // greedy colouring: a signal joins the first group none of whose equations it

@@ -3,6 +3,7 @@
 //! when the leading matrix is singular.
 
 use super::*;
+use crate::error::HillFailure;
 
 impl Hill {
     /// Selected (centred) eigenvalues of the matrix polynomial into `self.cands`, not
@@ -63,9 +64,7 @@ impl Hill {
             MemStack::new(&mut self.mem),
             Default::default(),
         )
-        .map_err(|e| {
-            Error::Other(format!("Hill's method: eigenvalues failed at Ω = {omega}: {e:?}"))
-        })?;
+        .map_err(|e| Error::Hill { omega, failure: HillFailure::Eigensolve(format!("{e:?}")) })?;
         // The eigenvectors come with the decomposition: the first block of a companion
         // eigenvector `[v, λv, …]` is `v`. (One inverse iteration per eigenvalue, as
         // before, cost `m` factorisations of size `m`: O(m⁴), the bulk of a full
@@ -120,10 +119,9 @@ impl Hill {
                 b[((d - 1) * m + i, (d - 1) * m + jj)] = self.coef[d][i * m + jj];
             }
         }
-        let ge = a.generalized_eigen(&b).map_err(|e| {
-            Error::Other(format!(
-                "Hill's method: generalized eigenvalues failed at Ω = {omega}: {e:?}"
-            ))
+        let ge = a.generalized_eigen(&b).map_err(|e| Error::Hill {
+            omega,
+            failure: HillFailure::GeneralizedEigensolve(format!("{e:?}")),
         })?;
         let (sa, sb) = (ge.S_a(), ge.S_b());
         for i in 0..big {

@@ -4,6 +4,7 @@
 //! factors `(λ ± ikΩ)^q`.
 
 use super::*;
+use crate::error::HillFailure;
 
 impl Hill {
     /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution:
@@ -20,13 +21,15 @@ impl Hill {
         let (len, ns, nh) = (self.len, self.samples, self.harmonics);
         let nsig = self.signals.len();
         if bal.samples() != ns || bal.len() != self.m {
-            return Err(Error::Other(format!(
-                "Hill's method: workspace for {} samples and {} unknowns used with a balance of {} and {}",
-                ns,
-                self.m,
-                bal.samples(),
-                bal.len()
-            )));
+            return Err(Error::Hill {
+                omega,
+                failure: HillFailure::Workspace {
+                    samples: ns,
+                    unknowns: self.m,
+                    got_samples: bal.samples(),
+                    got_unknowns: bal.len(),
+                },
+            });
         }
         bal.signal_gradients(coeffs, omega);
         for e in 0..self.ndof {

@@ -292,4 +292,15 @@ fn a_row_of_masses_has_a_block_tridiagonal_jacobian_assembled_in_grouped_passes(
     // a band too narrow for the Jacobian is reported, not filled in part
     let mut narrow = Band::new(n, l - 1, l - 1);
     assert!(!grouped.jacobian_into(&a, omega, &mut r2, &mut narrow));
+    // so is a dense matrix of the wrong size, and a transposed view is filled whole
+    let mut small = faer::Mat::<f64>::zeros(n - 1, n - 1);
+    grouped.jacobian(&a, omega, &mut r2, small.as_mut());
+    assert!((0..n - 1).all(|j| (0..n - 1).all(|i| small[(i, j)].is_nan())));
+    let mut t = faer::Mat::<f64>::zeros(n, n);
+    grouped.jacobian(&a, omega, &mut r2, t.as_mut().transpose_mut());
+    for j in 0..n {
+        for i in 0..n {
+            assert!((t[(j, i)] - dense[(i, j)]).abs() <= 1e-13 * scale, "transposed ({i}, {j})");
+        }
+    }
 }
