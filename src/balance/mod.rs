@@ -377,7 +377,9 @@ impl<'m, M: Model> Balance<'m, M> {
             if !self.affine[s0] {
                 continue;
             }
-            self.seed_sample(0, s0, omega);
+            self.seeded.fill(false);
+            self.seeded[s0] = true;
+            self.seed_sample(0, omega);
             for e in 0..ndof {
                 let g = self.d_out[e].eps;
                 self.grad[(e * nsig + s0) * m..][..m].fill(g);
@@ -386,24 +388,14 @@ impl<'m, M: Model> Balance<'m, M> {
         }
         // The others, a group per pass; the first pass also gives r.
         let mut have_r = false;
-        let w = Dual64::from_re(omega * self.period);
-        for (g, group) in self.groups.iter().enumerate() {
+        for g in 0..self.groups.len() {
             self.seeded.fill(false);
-            for &s in group {
+            for &s in &self.groups[g] {
                 self.seeded[s] = true;
             }
-            let reader = &self.group_reader[g * ndof..(g + 1) * ndof];
             for j in 0..m {
-                for (s, d) in self.d_sig.iter_mut().enumerate() {
-                    *d = Dual64::new(self.sig[s * m + j], if self.seeded[s] { 1.0 } else { 0.0 });
-                }
-                self.model.residual(
-                    &self.d_params,
-                    w,
-                    self.phases[j],
-                    &self.d_sig,
-                    &mut self.d_out,
-                );
+                self.seed_sample(j, omega);
+                let reader = &self.group_reader[g * ndof..(g + 1) * ndof];
                 for (e, (out, r)) in self.d_out.iter().zip(reader).enumerate() {
                     if want_r && !have_r {
                         self.res[e * m + j] = out.re;
@@ -507,11 +499,12 @@ impl<'m, M: Model> Balance<'m, M> {
         true
     }
 
-    /// The model at sample `j` with signal `s0` seeded (dual parts 1), into `d_out`.
-    fn seed_sample(&mut self, j: usize, s0: usize, omega: f64) {
+    /// The model at sample `j` with the signals marked in `self.seeded` seeded (dual
+    /// parts 1, the others 0), into `d_out`.
+    fn seed_sample(&mut self, j: usize, omega: f64) {
         let m = self.m;
-        for s in 0..self.nsig {
-            self.d_sig[s] = Dual64::new(self.sig[s * m + j], if s == s0 { 1.0 } else { 0.0 });
+        for (s, d) in self.d_sig.iter_mut().enumerate() {
+            *d = Dual64::new(self.sig[s * m + j], if self.seeded[s] { 1.0 } else { 0.0 });
         }
         self.model.residual(
             &self.d_params,

@@ -288,6 +288,9 @@ impl BorderedLu {
             }
             return dense.factor();
         }
+        if k == 0 {
+            return ratio_a;
+        }
         bd.v.copy_from_slice(&bd.b);
         for col in bd.v.chunks_exact_mut(na.max(1)).take(k) {
             bd.lu.solve(col);
@@ -308,9 +311,6 @@ impl BorderedLu {
                     scale = scale.max(size);
                 }
             }
-        }
-        if k == 0 {
-            return ratio_a;
         }
         bd.schur.factor();
         let m = bd.schur.matrix_mut();
