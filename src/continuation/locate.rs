@@ -64,6 +64,65 @@ impl Illinois {
     }
 }
 
+/// Trials of a search for a change of stability.
+const MAX_TRIALS: usize = 40;
+
+/// The search for the zero of the largest real part along a step: an [`Illinois`]
+/// bracket that also tells a crossing from a jump. A continuous function is small at
+/// both ends of a small bracket (a square root, as at a collision of two exponents, is
+/// 1e-3 of its scale at 1e-6 of the step); one that stays large there jumps: no
+/// exponent crosses zero, the set of exponents changed (two copies or roots that rank
+/// alike traded places in the full analysis), and bisecting on to 1e-10 of the step
+/// would only place the jump more finely.
+struct CrossingSearch {
+    bracket: Illinois,
+    h: f64,
+    /// The latest values on the side of `f(0)` and on the other (the bracket's own are
+    /// scaled by the Illinois rule).
+    ends: (f64, f64),
+    scale: f64,
+}
+
+/// What one more value told a [`CrossingSearch`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Narrowed {
+    Further,
+    /// The bracket is below 1e-10 of the step, or the value is exactly zero.
+    Crossing,
+    /// The bracket is below 1e-6 of the step with values above 1e-2 of the ends' on
+    /// both sides.
+    Jump,
+}
+
+impl CrossingSearch {
+    fn new(h: f64, f0: f64, f1: f64) -> Self {
+        let scale = f0.abs().max(f1.abs());
+        CrossingSearch { bracket: Illinois::new(h, f0, f1), h, ends: (f0, f1), scale }
+    }
+
+    fn next(&self) -> f64 {
+        self.bracket.next()
+    }
+
+    /// Take the value `f` at the trial `s`.
+    fn update(&mut self, s: f64, f: f64) -> Narrowed {
+        if f == 0.0 || self.bracket.width() < 1e-10 * self.h {
+            return Narrowed::Crossing;
+        }
+        self.bracket.update(s, f);
+        if f * self.ends.0 > 0.0 {
+            self.ends.0 = f;
+        } else {
+            self.ends.1 = f;
+        }
+        let small = self.ends.0.abs().min(self.ends.1.abs()) <= 1e-2 * self.scale;
+        if self.bracket.width() < 1e-6 * self.h && !small {
+            return Narrowed::Jump;
+        }
+        Narrowed::Further
+    }
+}
+
 /// Where a change of stability was found, and whether the search converged.
 pub(super) struct StabilityChange {
     pub y: Vec<f64>,
@@ -108,7 +167,9 @@ impl<M: Model> Continuation<'_, M> {
     }
 
     /// Locate where `growth` (largest Re λ minus the tolerance) changes sign inside
-    /// the step into `nodes[i + 1]`, with the analysis `hill` (not the tracking one).
+    /// the step into `nodes[i + 1]`, with the analysis `hill` (not the tracking one):
+    /// its exponents are tracked from iterate to iterate (seeded from the step's end
+    /// by [`Hill::follow`]), analysed in full where tracking cannot be trusted.
     pub(super) fn locate_stability_change(
         &mut self,
         hill: &mut Hill,
@@ -130,12 +191,12 @@ impl<M: Model> Continuation<'_, M> {
         let (m0, m1) = (g0 + shift(i), g1 + shift(i + 1));
         let exact = m0 * m1 < 0.0;
         let (f0, f1) = if exact { (m0, m1) } else { (g0, g1) };
-        let mut bracket = Illinois::new(h, f0, f1);
+        let mut search = CrossingSearch::new(h, f0, f1);
         let mut y = vec![0.0; n + 1];
         let mut best = self.nodes[if f0.abs() < f1.abs() { i } else { i + 1 }].y.clone();
         let mut coeffs = vec![0.0; n];
-        for _ in 0..40 {
-            let s = bracket.next();
+        for _ in 0..MAX_TRIALS {
+            let s = search.next();
             for k in 0..=n {
                 y[k] = y_i[k] + s * dirv[k];
             }
@@ -145,15 +206,16 @@ impl<M: Model> Continuation<'_, M> {
             self.tr.set_point(&y);
             self.tr.coeffs(&y, &mut coeffs);
             let omega = self.tr.omega(&y);
-            let Ok(fl) = hill.analyse(&mut self.tr.bal, &coeffs, omega, so) else {
+            let Ok(fl) = hill.track_near(&mut self.tr.bal, &coeffs, omega, so) else {
                 break;
             };
             let f = if exact { fl.max_real } else { fl.max_real - so.tol * omega };
             best.copy_from_slice(&y);
-            if f == 0.0 || bracket.width() < 1e-10 * h {
-                return StabilityChange { y: best, located: true };
+            match search.update(s, f) {
+                Narrowed::Further => {}
+                Narrowed::Crossing => return StabilityChange { y: best, located: true },
+                Narrowed::Jump => break,
             }
-            bracket.update(s, f);
         }
         StabilityChange { y: best, located: false }
     }
@@ -179,5 +241,52 @@ impl<M: Model> Continuation<'_, M> {
                 j.to = o.max_abs;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Run a search on `f` over `[0, 1]`: the outcome, the last trial, the trials.
+    fn search(f: impl Fn(f64) -> f64) -> (Option<Narrowed>, f64, usize) {
+        let mut c = CrossingSearch::new(1.0, f(0.0), f(1.0));
+        let mut s = 0.0;
+        for k in 0..MAX_TRIALS {
+            s = c.next();
+            match c.update(s, f(s)) {
+                Narrowed::Further => {}
+                done => return (Some(done), s, k + 1),
+            }
+        }
+        (None, s, MAX_TRIALS)
+    }
+
+    #[test]
+    fn a_smooth_crossing_is_located_to_the_bracket_tolerance() {
+        let root = 0.3141592653589793;
+        let (r, s, _) = search(|s| (s - root) * (1.0 + s));
+        assert_eq!(r, Some(Narrowed::Crossing));
+        assert!((s - root).abs() < 1e-9, "{s}");
+    }
+
+    #[test]
+    fn a_square_root_crossing_is_not_taken_for_a_jump() {
+        // sign(s - r)·√|s - r|: continuous, with an infinite slope at the root, as the
+        // real part of two exponents that collide there.
+        let root = 0.7;
+        let (r, s, _) = search(|s| (s - root).signum() * (s - root).abs().sqrt());
+        assert_eq!(r, Some(Narrowed::Crossing));
+        assert!((s - root).abs() < 1e-9, "{s}");
+    }
+
+    #[test]
+    fn a_jump_is_told_apart_and_placed_to_a_millionth_of_the_step() {
+        let at = 0.4;
+        let (r, s, trials) = search(|s| if s < at { -0.5 } else { 1.0 });
+        assert_eq!(r, Some(Narrowed::Jump));
+        assert!((s - at).abs() < 1e-6, "{s}");
+        // Bisection to 1e-6 is 20 halvings; the Illinois steps are no slower.
+        assert!(trials <= 30, "{trials}");
     }
 }

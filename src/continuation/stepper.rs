@@ -704,6 +704,8 @@ impl<'m, M: Model> Continuation<'m, M> {
                 Err(_) => return,
             },
         };
+        // Its exponents continue from the tracked ones at the step's end.
+        locator.follow(&st.hill);
         let StabilityChange { y, located } =
             self.locate_stability_change(&mut locator, &so, i, g0, g1);
         if let Some(st) = self.stab.as_mut() {

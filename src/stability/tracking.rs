@@ -199,6 +199,7 @@ pub(super) const MIN_SEPARATION: f64 = 1e-6;
 pub(super) const CENTRE_MAX: f64 = 0.5;
 
 /// Tracked exponents of the last point.
+#[derive(Clone)]
 pub(super) struct TrackState {
     pub(super) omega: f64,
     /// Raw exponents (one per conjugate pair) with unit eigenvectors.
