@@ -374,7 +374,8 @@ pub struct Bifurcation {
     /// the corrector or the Hill analysis failed on the way, and the place is the last
     /// good estimate inside that step; or, for a stability change, the largest real
     /// part jumps there instead of crossing zero (it stays above 1 % of its values at
-    /// the step's ends on both sides of a bracket of 1e-6 of the step): the analyses on
+    /// the step's ends on both sides of a bracket of 1e-6 of the step, or above 30 %
+    /// at 1e-3): the analyses on
     /// either side chose different sets of exponents, the place is the jump's, and
     /// the kind is the unstable side's crossing, not a bifurcation that was seen.
     pub located: bool,

@@ -70,10 +70,10 @@ const MAX_TRIALS: usize = 40;
 /// The search for the zero of the largest real part along a step: an [`Illinois`]
 /// bracket that also tells a crossing from a jump. A continuous function is small at
 /// both ends of a small bracket (a square root, as at a collision of two exponents, is
-/// 1e-3 of its scale at 1e-6 of the step); one that stays large there jumps: no
-/// exponent crosses zero, the set of exponents changed (two copies or roots that rank
-/// alike traded places in the full analysis), and bisecting on to 1e-10 of the step
-/// would only place the jump more finely.
+/// 1e-3 of its scale at 1e-6 of the step and 0.045 at 1e-3); one that stays large
+/// there jumps: no exponent crosses zero, the set of exponents changed (two copies or
+/// roots that rank alike traded places in the full analysis), and bisecting on to
+/// 1e-10 of the step would only place the jump more finely.
 struct CrossingSearch {
     bracket: Illinois,
     h: f64,
@@ -90,7 +90,7 @@ enum Narrowed {
     /// The bracket is below 1e-10 of the step, or the value is exactly zero.
     Crossing,
     /// The bracket is below 1e-6 of the step with values above 1e-2 of the ends' on
-    /// both sides.
+    /// both sides, or below 1e-3 with values above 0.3 of them.
     Jump,
 }
 
@@ -115,8 +115,10 @@ impl CrossingSearch {
         } else {
             self.ends.1 = f;
         }
-        let small = self.ends.0.abs().min(self.ends.1.abs()) <= 1e-2 * self.scale;
-        if self.bracket.width() < 1e-6 * self.h && !small {
+        let (least, w) = (self.ends.0.abs().min(self.ends.1.abs()), self.bracket.width());
+        if (w < 1e-6 * self.h && least > 1e-2 * self.scale)
+            || (w < 1e-3 * self.h && least > 0.3 * self.scale)
+        {
             return Narrowed::Jump;
         }
         Narrowed::Further
@@ -281,12 +283,23 @@ mod tests {
     }
 
     #[test]
-    fn a_jump_is_told_apart_and_placed_to_a_millionth_of_the_step() {
+    fn a_jump_is_told_apart_early_when_the_values_do_not_shrink() {
         let at = 0.4;
         let (r, s, trials) = search(|s| if s < at { -0.5 } else { 1.0 });
         assert_eq!(r, Some(Narrowed::Jump));
+        assert!((s - at).abs() < 1e-3, "{s}");
+        // Bisection to 1e-3 is 10 halvings; the Illinois steps are no slower.
+        assert!(trials <= 15, "{trials}");
+    }
+
+    #[test]
+    fn a_jump_whose_values_shrink_is_told_apart_at_a_millionth_of_the_step() {
+        // Continuous up to a jump of a fifth of the scale: the values near the jump are
+        // 0.2 and -0.2 of the scale, below the early rule's 0.3.
+        let at = 0.6;
+        let (r, s, trials) = search(|s| if s < at { 0.2 + (at - s) } else { -0.2 - (s - at) });
+        assert_eq!(r, Some(Narrowed::Jump));
         assert!((s - at).abs() < 1e-6, "{s}");
-        // Bisection to 1e-6 is 20 halvings; the Illinois steps are no slower.
         assert!(trials <= 30, "{trials}");
     }
 }
