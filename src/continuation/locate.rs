@@ -208,7 +208,8 @@ impl<M: Model> Continuation<'_, M> {
             self.tr.set_point(&y);
             self.tr.coeffs(&y, &mut coeffs);
             let omega = self.tr.omega(&y);
-            let Ok(fl) = hill.track_near(&mut self.tr.bal, &coeffs, omega, so) else {
+            hill.forget_motion();
+            let Ok(fl) = hill.track(&mut self.tr.bal, &coeffs, omega, so) else {
                 break;
             };
             let f = if exact { fl.max_real } else { fl.max_real - so.tol * omega };

@@ -478,8 +478,8 @@ impl Hill {
     }
 
     /// Take over `other`'s tracked exponents (a workspace for the same model and
-    /// harmonics, else nothing is taken): the next [`Hill::track`] or
-    /// [`Hill::track_near`] here continues from `other`'s last point. A root finder
+    /// harmonics, else nothing is taken): the next [`Hill::track`] here continues from
+    /// `other`'s last point. A root finder
     /// on a step of the curve starts from the step's end this way rather than with a
     /// full analysis.
     pub fn follow(&mut self, other: &Hill) {
@@ -487,20 +487,14 @@ impl Hill {
         self.state = if same { other.state.clone() } else { None };
     }
 
-    /// [`Hill::track`] for a point near the last one that does not continue it in
-    /// order (the iterates of a root finder go back and forth): the exponents start
-    /// from the last point's, without the linear predictor.
-    pub fn track_near<M: Model>(
-        &mut self,
-        bal: &mut Balance<'_, M>,
-        coeffs: &[f64],
-        omega: f64,
-        opts: &StabilityOptions,
-    ) -> Result<Floquet> {
+    /// Keep the tracked exponents but forget how they moved: the next [`Hill::track`]
+    /// starts from them without the linear predictor. For a point near the last one
+    /// that does not continue it in order (the iterates of a root finder go back and
+    /// forth).
+    pub fn forget_motion(&mut self) {
         if let Some(st) = self.state.as_mut() {
             st.prev = None;
         }
-        self.track(bal, coeffs, omega, opts)
     }
 
     /// Full analyses and tracked points of [`Hill::track`] so far.
