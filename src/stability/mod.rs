@@ -175,6 +175,9 @@ pub struct Hill {
     alpha_at: Option<(f64, f64, Complex64)>,
     /// Tracking state (see [`Hill::track`]).
     state: Option<TrackState>,
+    /// Exponents continued to the current point that only the correction rule
+    /// doubted, kept for the full analysis there to confirm (see [`Hill::track`]).
+    unconfirmed: Option<TrackState>,
     counts: TrackCounts,
 }
 
@@ -269,6 +272,7 @@ impl Hill {
             alpha: vec![[Complex64::new(0.0, 0.0); 4]; harmonics + 1],
             alpha_at: None,
             state: None,
+            unconfirmed: None,
             counts: TrackCounts::default(),
         })
     }
@@ -425,8 +429,17 @@ impl Hill {
         }
         self.counts.full += 1;
         let f = self.full(params, omega, opts);
+        let doubted = self.unconfirmed.take();
         match &f {
-            Ok(fl) if fl.refined => self.start_state(params, omega),
+            // Exponents tracked here whose correction was doubted, and which the full
+            // analysis confirms one by one: tracking goes on from them, with the motion
+            // from the last point for the predictor (a start from the full analysis
+            // has none, and an exponent moving steadily then fails the correction rule
+            // at the next point again).
+            Ok(fl) if fl.refined => match doubted {
+                Some(st) if self.confirms(&st, omega) => self.state = Some(st),
+                _ => self.start_state(params, omega),
+            },
             _ => self.state = None,
         }
         f
