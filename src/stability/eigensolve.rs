@@ -72,6 +72,8 @@ impl Hill {
         // imaginary parts in two consecutive columns.
         let mut spreads = Vec::with_capacity(big);
         let mut v = vec![Complex64::new(0.0, 0.0); m];
+        let keep_vectors = self.fractional;
+        self.cand_vectors.clear();
         let mut i = 0;
         while i < big {
             let im = self.s_im[i];
@@ -83,9 +85,15 @@ impl Hill {
             let sp = spread(&v, self.ndof, self.harmonics);
             self.cands.push(Complex64::new(self.s_re[i], im));
             spreads.push(sp);
+            if keep_vectors {
+                self.cand_vectors.extend_from_slice(&v);
+            }
             if pair {
                 self.cands.push(Complex64::new(self.s_re[i + 1], self.s_im[i + 1]));
                 spreads.push(Spread { centre: -sp.centre, spread: sp.spread });
+                if keep_vectors {
+                    self.cand_vectors.extend(v.iter().map(|z| z.conj()));
+                }
                 i += 2;
             } else {
                 i += 1;
@@ -97,6 +105,7 @@ impl Hill {
 
     /// Fallback for a singular leading matrix: the companion pencil, QZ.
     pub(super) fn candidates_generalized(&mut self, params: &[f64], omega: f64) -> Result<()> {
+        self.cand_vectors.clear();
         let (m, d) = (self.m, self.degree);
         let big = d * m;
         let mut a = Mat::<f64>::zeros(big, big);

@@ -154,6 +154,10 @@ pub struct Hill {
     /// The best-ranked eigenvalues the selection left out (not copies of kept ones, at
     /// most `SPARE_TRIES`): replacements when two kept candidates refine to one root.
     spare: Vec<Complex64>,
+    /// For fractional models, the frozen eigenvector (first companion block) of each
+    /// eigenvalue in `cands` before the selection, `m` entries each: the selection's
+    /// copy test ([`Hill::select_centred`]).
+    cand_vectors: Vec<Complex64>,
     /// The last full analysis replaced a candidate by a spare (its selection was not
     /// clean: tracking does not start from it).
     replaced: bool,
@@ -260,6 +264,7 @@ impl Hill {
             cands: Vec::with_capacity(big),
             centres: Vec::with_capacity(big),
             spare: Vec::with_capacity(big),
+            cand_vectors: Vec::new(),
             replaced: false,
             raw: Vec::with_capacity(big),
             t: vec![Complex64::new(0.0, 0.0); m * m],
@@ -531,14 +536,16 @@ fn degree<M: Model>(model: &M) -> usize {
 /// derivative order), the projections `ndof · nsig · (2N + 1)²`, the coefficient
 /// matrices `(d + 1) m²`, the companion matrix, its eigenvectors and the
 /// eigensolver's workspace (measured on the quarter car: about `6.6 (d m)²`) and the
-/// pencil of the singular fallback (`2 (d m)²`), all `f64`, and the complex `T(λ)`
-/// (`m²`). Counted heap of a full analysis without the fallback: 0.78–0.80 of it.
+/// pencil of the singular fallback (`2 (d m)²`), all `f64`, and complex: `T(λ)`
+/// (`m²`) and, for fractional models, the frozen eigenvectors the selection keeps
+/// for its copy test (`d m · m`). Counted heap of a full analysis of the quarter car
+/// without the fallback: 0.78–0.80 of it before the copy test's vectors.
 pub fn hill_bytes(ndof: usize, nsig: usize, degree: usize, harmonics: usize) -> f64 {
     let len = 2.0 * harmonics as f64 + 1.0;
     let m = ndof as f64 * len;
     let big = degree.max(1) as f64 * m;
     8.0 * (ndof as f64 * nsig as f64 * len * len + (degree as f64 + 1.0) * m * m + 9.0 * big * big)
-        + 16.0 * m * m
+        + 16.0 * (m * m + big * m)
 }
 
 /// Refuse a harmonic count whose Hill matrices for `model` would not fit in
