@@ -76,10 +76,39 @@ impl Hill {
         })
     }
 
+    /// Whether the exponents of `st` belong to as many families of copies as there are
+    /// of them, each represented by a centred eigenvector: for integer orders then all
+    /// of the `q_max·ndof` families (book, *Tracking along a curve*), whatever the
+    /// correction rule doubted. No two of them (nor one and its own conjugate) within
+    /// [`COPY_GAP`] modulo `iΩ` with eigenvectors [`COPY_OVERLAP`] alike after the
+    /// harmonic shift, and every eigenvector ranked within [`CENTRE_MAX`]
+    /// ([`Spread::key`]: a spurious eigenvalue of truncation, centre 0 with its energy
+    /// at far harmonics, is not a representative).
+    fn distinct_families(&self, st: &TrackState, omega: f64) -> bool {
+        let (ndof, nh) = (self.ndof, self.harmonics);
+        let n = st.lambdas.len();
+        if st.vectors.iter().any(|v| spread(v, ndof, nh).key() > CENTRE_MAX) {
+            return false;
+        }
+        let copies = |i: usize, k: usize, conj: bool| {
+            let z = if conj { st.lambdas[k].conj() } else { st.lambdas[k] };
+            let d = st.lambdas[i] - z;
+            let j = (d.im / omega).round();
+            fold_into_strip(d, omega).norm() <= COPY_GAP * omega
+                && copy_overlap(&st.vectors[k], conj, &st.vectors[i], false, j as i64, ndof, nh)
+                    >= COPY_OVERLAP
+        };
+        (0..n).all(|i| {
+            let own = !real(st.lambdas[i], omega) && copies(i, i, true);
+            !own && (i + 1..n).all(|k| !copies(i, k, false) && !copies(i, k, true))
+        })
+    }
+
     /// Continue `st` to the current point; `None` if a fallback rule fires. When only
     /// the correction rule fires (every exponent converged, each stays centred, real or
-    /// complex as it was, and apart from the others), the continued exponents are kept
-    /// in `self.unconfirmed` for the full analysis to confirm.
+    /// complex as it was, and apart from the others), an integer-order set that
+    /// [`Hill::distinct_families`] certifies is kept; otherwise the continued exponents
+    /// are kept in `self.unconfirmed` for the full analysis to confirm.
     pub(super) fn continue_state(
         &mut self,
         params: &[f64],
@@ -159,7 +188,9 @@ impl Hill {
         }
         let prev = Some((st.omega, before));
         let next = TrackState { omega, lambdas, vectors, sep, prev };
-        if doubted {
+        // Integer orders: a doubted set that still holds one exponent of each family
+        // holds them all (there are as many families as tracked exponents).
+        if doubted && (self.fractional || !self.distinct_families(&next, omega)) {
             self.unconfirmed = Some(next);
             return None;
         }
@@ -250,6 +281,58 @@ pub(super) struct TrackState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 2-DOF vector at N = 4 with its energy at harmonics `-1..=1`.
+    fn vector(seed: f64) -> Vec<Complex64> {
+        let (ndof, nh) = (2, 4);
+        let len = 2 * nh + 1;
+        let mut v = vec![Complex64::new(0.0, 0.0); ndof * len];
+        for d in 0..ndof {
+            let b = &mut v[d * len..(d + 1) * len];
+            let x = seed + 1.3 * d as f64;
+            b[0] = Complex64::new(x.sin(), 0.4 * x.cos());
+            b[1] = Complex64::new(0.3 * x.cos(), 0.1);
+            b[nh + 1] = Complex64::new(0.2, -0.3 * x.sin());
+        }
+        normalise(&mut v).unwrap();
+        v
+    }
+
+    fn state(lambdas: Vec<Complex64>, vectors: Vec<Vec<Complex64>>) -> TrackState {
+        TrackState { omega: 1.0, sep: vec![1.0; lambdas.len()], lambdas, vectors, prev: None }
+    }
+
+    #[test]
+    fn distinct_families_refuses_two_copies_of_one_exponent() {
+        let hill = Hill::new(&crate::models::QuarterCar::default(), 4).unwrap();
+        let omega = 1.0;
+        let (a, b) = (Complex64::new(-0.05, 0.2), Complex64::new(-0.1, 0.33));
+        let (va, vb) = (vector(0.4), vector(2.9));
+        assert!(hill.distinct_families(&state(vec![a, b], vec![va.clone(), vb.clone()]), omega));
+        // `a + iΩ` (off by rounding) with the shifted eigenvector, and its conjugate.
+        let mut copy = va.clone();
+        shift_harmonics(&mut copy, 2, 4, 1);
+        let near = a + Complex64::new(1e-4, omega);
+        let two = state(vec![a, near], vec![va.clone(), copy.clone()]);
+        assert!(!hill.distinct_families(&two, omega));
+        let conj: Vec<Complex64> = copy.iter().map(|z| z.conj()).collect();
+        let two = state(vec![a, near.conj()], vec![va.clone(), conj]);
+        assert!(!hill.distinct_families(&two, omega));
+        // Close modulo iΩ but with unrelated eigenvectors: two exponents.
+        assert!(hill.distinct_families(&state(vec![a, near], vec![va.clone(), vb]), omega));
+    }
+
+    #[test]
+    fn distinct_families_refuses_an_eigenvector_spread_to_far_harmonics() {
+        // Energy at ±3 in equal parts: centre 0, variance 9.
+        let hill = Hill::new(&crate::models::QuarterCar::default(), 4).unwrap();
+        let (ndof, nh) = (2, 4);
+        let mut far = vec![Complex64::new(0.0, 0.0); ndof * (2 * nh + 1)];
+        far[3] = Complex64::new(1.0, 0.0);
+        assert!(spread(&far, ndof, nh).centre.abs() < 1e-15);
+        let st = state(vec![Complex64::new(-0.05, 0.2)], vec![far]);
+        assert!(!hill.distinct_families(&st, 1.0));
+    }
 
     #[test]
     fn shifting_harmonics_moves_the_centre_by_the_shift_and_back() {

@@ -209,6 +209,19 @@ fn chain5_fractional_tracking_agrees_with_full_analyses() {
     );
 }
 
+/// Integer orders: where the correction rule doubts a tracked set whose exponents
+/// still stand for as many distinct families of copies, tracking goes on without a
+/// full analysis (about a dozen points of this curve, in its multi-fold resonance).
+#[test]
+fn chain5_integer_tracking_agrees_with_full_analyses() {
+    let model = Chain5 { p: 1.0, ..Default::default() };
+    let opts = SweepOptions { harmonics: 5, ..Default::default() };
+    let curve = sweep(&model, 0.05, 2.5, &opts).unwrap();
+    let k = stability_common::compare(&model, &curve, 5);
+    assert_eq!(curve.stats.stability_full, k.full);
+    assert!(curve.points.iter().any(|p| !p.stability.is_stable()));
+}
+
 /// The unknowns `X_i` of the linear chain (`k3 = 0`) forced by `F cos Ωt` at its last
 /// mass: `(−mΩ² I + κ L) X = F e_n`, `κ = k + c iΩ + h (iΩ)^p` per link, `L` the
 /// grounded chain's tridiagonal (2 on the diagonal but 1 at the free end, −1 beside
