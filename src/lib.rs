@@ -37,6 +37,7 @@ pub mod results;
 pub mod runtime;
 pub mod stability;
 pub mod timedomain;
+mod xorshift;
 
 // The application (feature `cli`, on by default): reports, the settings-driven
 // engine shared by the command line and studies, studies, the command line.

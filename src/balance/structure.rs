@@ -11,13 +11,33 @@ fn wrong(model: &str, claim: Claim, detail: String) -> Error {
     Error::WrongClaim { model: model.to_string(), claim, detail }
 }
 
-/// Reproducible pseudo-random numbers in [-1, 1] (xorshift) for the probes.
+/// Reproducible pseudo-random numbers in [-1, 1) for the probes.
 fn states(mut seed: u64) -> impl FnMut() -> f64 {
-    move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    move || crate::xorshift::next(&mut seed)
+}
+
+/// A state at which the structure tests differentiate the residual.
+struct Probe<'a> {
+    params: &'a [Dual64],
+    omega: Dual64,
+    phase: f64,
+}
+
+impl Probe<'_> {
+    /// `∂r_e/∂s0` for every equation (the dual parts of `out`) with the signals at
+    /// `values`, seeding only signal `s0` (`sig` is scratch).
+    fn derivative<M: Model>(
+        &self,
+        model: &M,
+        values: &[f64],
+        s0: usize,
+        sig: &mut [Dual64],
+        out: &mut [Dual64],
+    ) {
+        for (s, (d, &v)) in sig.iter_mut().zip(values).enumerate() {
+            *d = Dual64::new(v, if s == s0 { 1.0 } else { 0.0 });
+        }
+        model.residual(self.params, self.omega, self.phase, sig, out);
     }
 }
 
@@ -66,11 +86,9 @@ impl<M: Model> Balance<'_, M> {
                     ));
                 }
             }
+            let probe_at = Probe { params: &params, omega: Dual64::from_re(omega), phase };
             for s0 in (0..nsig).filter(|&s| claimed.get(s) == Some(&true)) {
-                for (s, (d, &v)) in sig.iter_mut().zip(&values).enumerate() {
-                    *d = Dual64::new(v, if s == s0 { 1.0 } else { 0.0 });
-                }
-                model.residual(&params, Dual64::from_re(omega), phase, &sig, &mut out);
+                probe_at.derivative(model, &values, s0, &mut sig, &mut out);
                 for e in 0..ndof {
                     let (g, g0) = (out[e].eps, &mut first[e * nsig + s0]);
                     if probe == 0 {
@@ -189,11 +207,9 @@ impl<M: Model> Balance<'_, M> {
             let values: Vec<f64> = (0..nsig).map(|_| 2.0 * rand()).collect();
             let phase = std::f64::consts::PI * (1.0 + rand());
             let omega = Dual64::from_re(1.0 + 0.5 * rand());
+            let probe = Probe { params: &params, omega, phase };
             for s0 in 0..nsig {
-                for (s, (d, &v)) in sig.iter_mut().zip(&values).enumerate() {
-                    *d = Dual64::new(v, if s == s0 { 1.0 } else { 0.0 });
-                }
-                self.model.residual(&params, omega, phase, &sig, &mut out);
+                probe.derivative(self.model, &values, s0, &mut sig, &mut out);
                 for (e, o) in out.iter().enumerate() {
                     if o.eps != 0.0 {
                         reads[e * nsig + s0] = true;

@@ -271,13 +271,7 @@ pub(crate) mod tests {
     use faer::linalg::lu::partial_pivoting::solve as faer_solve;
     use faer::perm::PermRef;
 
-    /// Reproducible pseudo-random numbers in [-1, 1] (xorshift) for test matrices.
-    pub(crate) fn xorshift(seed: &mut u64) -> f64 {
-        *seed ^= *seed << 13;
-        *seed ^= *seed >> 7;
-        *seed ^= *seed << 17;
-        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
+    pub(crate) use crate::xorshift::next as xorshift;
 
     #[test]
     fn solve_matches_faer_on_a_pivoting_matrix() {
