@@ -441,7 +441,10 @@ impl<'m, M: Model> Balance<'m, M> {
             jac.fill(f64::NAN);
             return;
         }
-        if !self.jacobian_into(a, omega, r, &mut jac) {
+        if jac.row_stride() == 1 {
+            // contiguous columns: a full matrix stores every block
+            self.jacobian_into(a, omega, r, &mut jac);
+        } else {
             // a view whose columns are not contiguous: assemble apart, then copy
             let mut own = faer::Mat::<f64>::zeros(jac.nrows(), jac.ncols());
             self.jacobian_into(a, omega, r, &mut own.as_mut());

@@ -48,6 +48,10 @@ impl Hill {
                 block.fill(0.0);
                 // a block of its own size always holds the whole projection
                 let _ = crate::balance::add_block(&mut block, nh, 0, 0, 1.0, g, ext, ones);
+                // Row-major, as `T(λ)` is assembled and applied by rows: the block
+                // formula writes contiguous columns, so the copy is the transposition
+                // of the layout (len² per projection, against the len² per signal term
+                // that every `eval_t` and `apply_t` reads).
                 let p = &mut self.proj[idx * len * len..(idx + 1) * len * len];
                 for (r, row) in p.chunks_exact_mut(len).enumerate() {
                     for (c, v) in row.iter_mut().enumerate() {
