@@ -5,63 +5,105 @@
 use super::*;
 use crate::error::HillFailure;
 
+/// The companion eigensolve's matrices and workspace.
+pub(super) struct Companion {
+    companion: Mat<f64>,
+    /// Right eigenvectors of the companion matrix (a complex pair in two columns).
+    vectors: Mat<f64>,
+    /// The leading coefficient, then its LU.
+    lead: Mat<f64>,
+    s_re: Vec<f64>,
+    s_im: Vec<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    mem: MemBuffer,
+}
+
+impl Companion {
+    /// For a polynomial of `m × m` coefficients and a companion of size `big`.
+    pub(super) fn new(m: usize, big: usize) -> Companion {
+        use faer::linalg::{evd, lu::partial_pivoting as lu};
+        let no = evd::ComputeEigenvectors::No;
+        let scratch = evd::evd_scratch::<f64>(
+            big,
+            no,
+            evd::ComputeEigenvectors::Yes,
+            Par::Seq,
+            Default::default(),
+        )
+        .or(lu::factor::lu_in_place_scratch::<usize, f64>(m, m, Par::Seq, Default::default()))
+        .or(lu::solve::solve_in_place_scratch::<usize, f64>(m, big, Par::Seq));
+        Companion {
+            companion: Mat::zeros(big, big),
+            vectors: Mat::zeros(big, big),
+            lead: Mat::zeros(m, m),
+            s_re: vec![0.0; big],
+            s_im: vec![0.0; big],
+            perm: vec![0; m],
+            perm_inv: vec![0; m],
+            mem: MemBuffer::new(scratch),
+        }
+    }
+}
+
 impl Hill {
-    /// Selected (centred) eigenvalues of the matrix polynomial into `self.cands`, not
+    /// Selected (centred) eigenvalues of the matrix polynomial into `self.sel.cands`, not
     /// folded.
     pub(super) fn candidates(&mut self, params: &[f64], omega: f64) -> Result<()> {
         use faer::linalg::lu::partial_pivoting::{factor, solve};
-        let (m, d) = (self.m, self.degree);
+        let (m, d) = (self.op.m, self.op.degree);
         let big = d * m;
         let count = self.central_count();
-        let lead = &self.coef[d];
-        self.lead = Mat::from_fn(m, m, |i, j| lead[i * m + j]);
-        let scale = self.lead.norm_max();
+        let lead = &self.op.coef[d];
+        self.eig.lead = Mat::from_fn(m, m, |i, j| lead[i * m + j]);
+        let scale = self.eig.lead.norm_max();
         let (_, perm) = factor::lu_in_place(
-            self.lead.as_mut(),
-            &mut self.perm,
-            &mut self.perm_inv,
+            self.eig.lead.as_mut(),
+            &mut self.eig.perm,
+            &mut self.eig.perm_inv,
             Par::Seq,
-            MemStack::new(&mut self.mem),
+            MemStack::new(&mut self.eig.mem),
             Default::default(),
         );
-        let min_pivot = (0..m).map(|i| self.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
-        self.cands.clear();
+        let min_pivot = (0..m).map(|i| self.eig.lead[(i, i)].abs()).fold(f64::INFINITY, f64::min);
+        self.sel.cands.clear();
         if min_pivot.is_nan() || min_pivot <= 1e-12 * scale {
             return self.candidates_generalized(params, omega);
         }
         // Companion: [[0, I, ...], ..., [-L⁻¹M_0, ..., -L⁻¹M_{d-1}]].
-        self.companion.fill(0.0);
+        self.eig.companion.fill(0.0);
         for b in 0..d - 1 {
             for i in 0..m {
-                self.companion[(b * m + i, (b + 1) * m + i)] = 1.0;
+                self.eig.companion[(b * m + i, (b + 1) * m + i)] = 1.0;
             }
         }
         for r in 0..d {
             for i in 0..m {
                 for jj in 0..m {
-                    self.companion[((d - 1) * m + i, r * m + jj)] = -self.coef[r][i * m + jj];
+                    self.eig.companion[((d - 1) * m + i, r * m + jj)] =
+                        -self.op.coef[r][i * m + jj];
                 }
             }
         }
         {
-            let rows = self.companion.as_mut().subrows_mut((d - 1) * m, m);
+            let rows = self.eig.companion.as_mut().subrows_mut((d - 1) * m, m);
             solve::solve_in_place(
-                self.lead.as_ref(),
-                self.lead.as_ref(),
+                self.eig.lead.as_ref(),
+                self.eig.lead.as_ref(),
                 perm,
                 rows,
                 Par::Seq,
-                MemStack::new(&mut self.mem),
+                MemStack::new(&mut self.eig.mem),
             );
         }
         faer::linalg::evd::evd_real(
-            self.companion.as_ref(),
-            faer::diag::DiagMut::from_slice_mut(&mut self.s_re),
-            faer::diag::DiagMut::from_slice_mut(&mut self.s_im),
+            self.eig.companion.as_ref(),
+            faer::diag::DiagMut::from_slice_mut(&mut self.eig.s_re),
+            faer::diag::DiagMut::from_slice_mut(&mut self.eig.s_im),
             None,
-            Some(self.vectors.as_mut()),
+            Some(self.eig.vectors.as_mut()),
             Par::Seq,
-            MemStack::new(&mut self.mem),
+            MemStack::new(&mut self.eig.mem),
             Default::default(),
         )
         .map_err(|e| Error::Hill { omega, failure: HillFailure::Eigensolve(format!("{e:?}")) })?;
@@ -72,27 +114,27 @@ impl Hill {
         // imaginary parts in two consecutive columns.
         let mut spreads = Vec::with_capacity(big);
         let mut v = vec![Complex64::new(0.0, 0.0); m];
-        let keep_vectors = self.fractional;
-        self.cand_vectors.clear();
+        let keep_vectors = self.op.fractional;
+        self.sel.cand_vectors.clear();
         let mut i = 0;
         while i < big {
-            let im = self.s_im[i];
+            let im = self.eig.s_im[i];
             let pair = im != 0.0 && i + 1 < big;
             for (r, z) in v.iter_mut().enumerate() {
-                let b = if pair { self.vectors[(r, i + 1)] } else { 0.0 };
-                *z = Complex64::new(self.vectors[(r, i)], b);
+                let b = if pair { self.eig.vectors[(r, i + 1)] } else { 0.0 };
+                *z = Complex64::new(self.eig.vectors[(r, i)], b);
             }
-            let sp = spread(&v, self.ndof, self.harmonics);
-            self.cands.push(Complex64::new(self.s_re[i], im));
+            let sp = spread(&v, self.op.ndof, self.op.harmonics);
+            self.sel.cands.push(Complex64::new(self.eig.s_re[i], im));
             spreads.push(sp);
             if keep_vectors {
-                self.cand_vectors.extend_from_slice(&v);
+                self.sel.cand_vectors.extend_from_slice(&v);
             }
             if pair {
-                self.cands.push(Complex64::new(self.s_re[i + 1], self.s_im[i + 1]));
+                self.sel.cands.push(Complex64::new(self.eig.s_re[i + 1], self.eig.s_im[i + 1]));
                 spreads.push(Spread { centre: -sp.centre, spread: sp.spread });
                 if keep_vectors {
-                    self.cand_vectors.extend(v.iter().map(|z| z.conj()));
+                    self.sel.cand_vectors.extend(v.iter().map(|z| z.conj()));
                 }
                 i += 2;
             } else {
@@ -105,8 +147,8 @@ impl Hill {
 
     /// Fallback for a singular leading matrix: the companion pencil, QZ.
     pub(super) fn candidates_generalized(&mut self, params: &[f64], omega: f64) -> Result<()> {
-        self.cand_vectors.clear();
-        let (m, d) = (self.m, self.degree);
+        self.sel.cand_vectors.clear();
+        let (m, d) = (self.op.m, self.op.degree);
         let big = d * m;
         let mut a = Mat::<f64>::zeros(big, big);
         let mut b = Mat::<f64>::zeros(big, big);
@@ -119,13 +161,13 @@ impl Hill {
         for r in 0..d {
             for i in 0..m {
                 for jj in 0..m {
-                    a[((d - 1) * m + i, r * m + jj)] = -self.coef[r][i * m + jj];
+                    a[((d - 1) * m + i, r * m + jj)] = -self.op.coef[r][i * m + jj];
                 }
             }
         }
         for i in 0..m {
             for jj in 0..m {
-                b[((d - 1) * m + i, (d - 1) * m + jj)] = self.coef[d][i * m + jj];
+                b[((d - 1) * m + i, (d - 1) * m + jj)] = self.op.coef[d][i * m + jj];
             }
         }
         let ge = a.generalized_eigen(&b).map_err(|e| Error::Hill {
@@ -136,10 +178,10 @@ impl Hill {
         for i in 0..big {
             let (x, y) = (sa[i], sb[i]);
             if y.norm() > 1e-12 * x.norm().max(1e-300) {
-                self.cands.push(x / y);
+                self.sel.cands.push(x / y);
             }
         }
-        let count = (self.cands.len() / self.len).max(1).min(self.cands.len());
+        let count = (self.sel.cands.len() / self.op.len).max(1).min(self.sel.cands.len());
         self.select_centred(params, omega, count, None);
         Ok(())
     }

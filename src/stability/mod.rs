@@ -8,10 +8,12 @@
 //! each exponent, the fractional refinement and the tracking along a curve with its
 //! fallback rules are in the book's *Continuation* chapter (*Stability*).
 //!
-//! One idea per part: [`operator`] (`T(λ)`, `T'(λ)`), [`eigensolve`] (companion
-//! eigenvalues and eigenvectors), [`selection`] (one copy of each exponent),
-//! [`refinement`] (roots of the nonlinear problem), [`tracking`] (along a curve),
-//! [`exponents`] (arithmetic modulo `iΩ`, the verdict).
+//! One idea per part, each with its own workspace: `operator` (`T(λ)`, `T'(λ)`:
+//! `Operator`), `eigensolve` (companion eigenvalues and eigenvectors: `Companion`),
+//! `selection` (one copy of each exponent: `Selection`), `refinement` (roots of the
+//! nonlinear problem: `Scratch`), `tracking` (along a curve: `Tracker`),
+//! `exponents` (arithmetic modulo `iΩ`, the verdict). [`Hill`] holds one of each and
+//! runs them in order; the complex LU is [`crate::linalg`]'s, shared with balance.
 
 mod eigensolve;
 mod exponents;
@@ -22,7 +24,6 @@ mod tracking;
 
 use exponents::*;
 use selection::*;
-use tracking::*;
 
 use crate::balance::Balance;
 use crate::error::{Error, Result};
@@ -111,78 +112,16 @@ impl Floquet {
 /// assert!((f.exponents[0].re + 0.05).abs() < 1e-3);
 /// ```
 pub struct Hill {
-    ndof: usize,
-    harmonics: usize,
-    len: usize,
-    m: usize,
-    samples: usize,
-    /// Highest integer order, the degree of the matrix polynomial.
-    degree: usize,
-    /// Projection matrices `P[g_{e,j}]`, row-major len×len, index (e * nsig + j).
-    proj: Vec<f64>,
-    /// Gradient spectrum `ĝ_m`, `m = 0..=2N`, the scratch of the block formula, and its
-    /// unit spectral factors (`N + 1` ones).
-    ghat: Vec<Complex64>,
-    ext: Vec<Complex64>,
-    ones: Vec<Complex64>,
-    /// One projection assembled column-major (the block formula writes columns)
-    proj_block: faer::Mat<f64>,
-    /// Constant gradient of each projection (`P = g0·I`), if it is one.
-    diag: Vec<Option<f64>>,
-    /// `M_0 .. M_degree`, row-major `m × m`.
-    coef: Vec<Vec<f64>>,
-    /// Nonzero entries `(index, value)` of `M_1 .. M_degree` (index `r - 1`): mass and
-    /// damping terms are usually linear, their blocks diagonal in the harmonics, and
-    /// `T(λ)` is then `M_0` plus a few entries (see [`Hill::eval_t`]).
-    sparse: Vec<Vec<(usize, f64)>>,
-    companion: Mat<f64>,
-    /// Right eigenvectors of the companion matrix (a complex pair in two columns).
-    vectors: Mat<f64>,
-    lead: Mat<f64>,
-    s_re: Vec<f64>,
-    s_im: Vec<f64>,
-    perm: Vec<usize>,
-    perm_inv: Vec<usize>,
-    mem: MemBuffer,
-    signals: Vec<(Vec<(usize, f64)>, Order)>,
-    fractional: bool,
-    /// The signals whose order is fractional at the current parameters.
-    fractional_signals: Vec<usize>,
-    cands: Vec<Complex64>,
-    /// [`Spread`] of each selected candidate's eigenvector (see [`Hill::select_centred`]).
-    centres: Vec<Spread>,
-    /// The best-ranked eigenvalues the selection left out (not copies of kept ones, at
-    /// most `SPARE_TRIES`): replacements when two kept candidates refine to one root.
-    spare: Vec<Complex64>,
-    /// For fractional models, the frozen eigenvector (first companion block) of each
-    /// eigenvalue in `cands` before the selection, `m` entries each: the selection's
-    /// copy test ([`Hill::select_centred`]).
-    cand_vectors: Vec<Complex64>,
-    /// The last full analysis replaced a candidate by a spare (its selection was not
-    /// clean: tracking does not start from it).
-    replaced: bool,
-    /// Exponents of the last full analysis, one per conjugate pair, not folded: the
-    /// selected eigenvalues (integer orders) or their refined roots (fractional).
-    raw: Vec<Complex64>,
-    /// Complex kernels of the nonlinear iteration: `T` (then its LU), pivots, a vector.
-    t: Vec<Complex64>,
-    piv: Vec<usize>,
-    x: Vec<Complex64>,
-    /// `T(λ)v`, `T'(λ)v` of [`Hill::apply_t`], and its per-block scratch (`2·len`);
-    /// the adjoint vector of the certification step.
-    tv: Vec<Complex64>,
-    w: Vec<Complex64>,
-    dtv: Vec<Complex64>,
-    block: Vec<Complex64>,
-    alpha: Vec<[Complex64; 4]>,
-    /// `(q, Ω, λ)` of the fractional factors in `alpha` (`None`: not fractional ones).
-    alpha_at: Option<(f64, f64, Complex64)>,
-    /// Tracking state (see [`Hill::track`]).
-    state: Option<TrackState>,
-    /// Exponents continued to the current point that only the correction rule
-    /// doubted, kept for the full analysis there to confirm (see [`Hill::track`]).
-    unconfirmed: Option<TrackState>,
-    counts: TrackCounts,
+    /// `T(λ)` and what it is made of (see [`operator::Operator`]).
+    op: operator::Operator,
+    /// The companion eigensolve's matrices and workspace.
+    eig: eigensolve::Companion,
+    /// The full analysis's candidates, the kept ones and their refined roots.
+    sel: selection::Selection,
+    /// Scratch of the nonlinear iteration (pivots, solution, adjoint vector).
+    nw: refinement::Scratch,
+    /// The exponents carried along a curve and the counts.
+    tr: tracking::Tracker,
 }
 
 /// How many points [`Hill::track`] analysed in full and how many it tracked.
@@ -207,113 +146,36 @@ impl Hill {
         crate::fourier::check_harmonics(harmonics)?;
         let ndof = model.dofs().len();
         crate::balance::check_size(ndof, harmonics)?;
-        let len = 2 * harmonics + 1;
-        let m = ndof * len;
-        let samples = crate::fourier::model_sample_count(model, harmonics, period);
-        let degree = degree(model);
-        let fractional = model.signals().iter().any(|s| matches!(s.order, Order::Param(_)));
-        let signals: Vec<_> = model.signals().iter().map(|s| (s.terms.to_vec(), s.order)).collect();
-        let neq = ndof;
-        let nsig = signals.len();
-        let big = degree * m;
         check_size(model, harmonics)?;
-        let scratch =
-            faer::linalg::evd::evd_scratch::<f64>(
-                big,
-                faer::linalg::evd::ComputeEigenvectors::No,
-                faer::linalg::evd::ComputeEigenvectors::Yes,
-                Par::Seq,
-                Default::default(),
-            )
-            .or(faer::linalg::lu::partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(
-                m,
-                m,
-                Par::Seq,
-                Default::default(),
-            ))
-            .or(faer::linalg::lu::partial_pivoting::solve::solve_in_place_scratch::<
-                usize,
-                f64,
-            >(m, big, Par::Seq));
+        let op = operator::Operator::new(model, harmonics, period, degree(model));
+        let (m, big) = (op.m, op.degree * op.m);
         Ok(Hill {
-            ndof,
-            harmonics,
-            len,
-            m,
-            samples,
-            degree,
-            proj: vec![0.0; neq * nsig * len * len],
-            ghat: vec![Complex64::new(0.0, 0.0); 2 * harmonics + 1],
-            ext: vec![Complex64::new(0.0, 0.0); 4 * harmonics + 1],
-            ones: vec![Complex64::new(1.0, 0.0); harmonics + 1],
-            proj_block: faer::Mat::zeros(len, len),
-            diag: vec![None; neq * nsig],
-            coef: (0..=degree).map(|_| vec![0.0; m * m]).collect(),
-            sparse: (0..degree).map(|_| Vec::with_capacity(m * m)).collect(),
-            companion: Mat::zeros(big, big),
-            vectors: Mat::zeros(big, big),
-            lead: Mat::zeros(m, m),
-            s_re: vec![0.0; big],
-            s_im: vec![0.0; big],
-            perm: vec![0; m],
-            perm_inv: vec![0; m],
-            mem: MemBuffer::new(scratch),
-            signals,
-            fractional,
-            fractional_signals: Vec::new(),
-            cands: Vec::with_capacity(big),
-            centres: Vec::with_capacity(big),
-            spare: Vec::with_capacity(big),
-            cand_vectors: Vec::new(),
-            replaced: false,
-            raw: Vec::with_capacity(big),
-            t: vec![Complex64::new(0.0, 0.0); m * m],
-            piv: vec![0; m],
-            x: vec![Complex64::new(0.0, 0.0); m],
-            tv: vec![Complex64::new(0.0, 0.0); m],
-            w: vec![Complex64::new(0.0, 0.0); m],
-            dtv: vec![Complex64::new(0.0, 0.0); m],
-            block: vec![Complex64::new(0.0, 0.0); 2 * len],
-            alpha: vec![[Complex64::new(0.0, 0.0); 4]; harmonics + 1],
-            alpha_at: None,
-            state: None,
-            unconfirmed: None,
-            counts: TrackCounts::default(),
+            eig: eigensolve::Companion::new(m, big),
+            sel: selection::Selection::new(big),
+            nw: refinement::Scratch::new(m),
+            tr: tracking::Tracker::default(),
+            op,
         })
     }
 
-    /// The order of signal `j` if it is an integer at `params` (a parameter order such
-    /// as `p = 1` included, up to the polynomial's degree): its factor `(λ + ikΩ)^q`
-    /// is then polynomial, exact in the companion linearisation, with nothing to refine.
-    fn integer_order(&self, j: usize, params: &[f64]) -> Option<usize> {
-        match self.signals[j].1 {
-            Order::Int(q) => Some(q as usize),
-            order => {
-                let q = order.value(params);
-                (q >= 0.0 && q.fract() == 0.0 && q <= self.degree as f64).then_some(q as usize)
-            }
+    /// The projections at the solution `coeffs` ([`operator::Operator::project_gradients`]);
+    /// a change between integer and fractional orders forgets the tracked exponents
+    /// (they were of the other kind of problem).
+    fn project<M: Model>(
+        &mut self,
+        bal: &mut Balance<'_, M>,
+        coeffs: &[f64],
+        omega: f64,
+    ) -> Result<()> {
+        if self.op.project_gradients(bal, coeffs, omega)? {
+            self.tr.state = None;
         }
-    }
-
-    /// Whether some order is fractional at `params`; a change forgets the tracking
-    /// state (its exponents were of the other kind of problem).
-    fn set_orders(&mut self, params: &[f64]) {
-        self.fractional_signals.clear();
-        for j in 0..self.signals.len() {
-            if self.integer_order(j, params).is_none() {
-                self.fractional_signals.push(j);
-            }
-        }
-        let fractional = !self.fractional_signals.is_empty();
-        if fractional != self.fractional {
-            self.state = None;
-        }
-        self.fractional = fractional;
+        Ok(())
     }
 
     /// Number of central exponents (`degree · ndof`).
     pub fn central_count(&self) -> usize {
-        self.degree * self.ndof
+        self.op.degree * self.op.ndof
     }
 
     /// Floquet exponents and stability of the solution `coeffs` at frequency `omega`
@@ -332,24 +194,25 @@ impl Hill {
 
     /// The full analysis on the current projections.
     fn full(&mut self, params: &[f64], omega: f64, opts: &StabilityOptions) -> Result<Floquet> {
-        self.assemble_polynomial(params, omega, true);
+        self.op.assemble_polynomial(params, omega, true);
         self.candidates(params, omega)?;
         let tie = 1e-12 * omega;
         let mut refined = true;
-        let mut exps: Vec<Complex64> = Vec::with_capacity(self.cands.len());
-        self.raw.clear();
-        self.replaced = false;
-        if self.fractional && opts.refine {
+        let mut exps: Vec<Complex64> = Vec::with_capacity(self.sel.cands.len());
+        self.sel.raw.clear();
+        self.sel.replaced = false;
+        if self.op.fractional && opts.refine {
             // Each candidate's eigenvector of the frozen problem (one inverse iteration
             // at its eigenvalue, nearly singular there): a start that is already an
             // eigenvector, not the one step from a generic vector on the true T(λ),
             // which at low Ω mixes in the copies of other modes (spaced by Ω) and sent
             // the iteration to another mode's root.
             let frozen_vectors: Vec<Option<Vec<Complex64>>> = self
+                .sel
                 .cands
                 .clone()
                 .iter()
-                .chain(self.spare.clone().iter())
+                .chain(self.sel.spare.clone().iter())
                 .map(|&c| {
                     if c.im < -tie {
                         return None;
@@ -359,10 +222,10 @@ impl Hill {
                     })
                 })
                 .collect();
-            let ncand = self.cands.len();
+            let ncand = self.sel.cands.len();
             // The exact (not frozen) polynomial part for the refinement.
-            self.assemble_polynomial(params, omega, false);
-            let cands = std::mem::take(&mut self.cands);
+            self.op.assemble_polynomial(params, omega, false);
+            let cands = std::mem::take(&mut self.sel.cands);
             let mut spare = 0;
             for (ci, &c) in cands.iter().enumerate() {
                 if c.im < -tie {
@@ -377,14 +240,14 @@ impl Hill {
                 let mut cand = c;
                 let l = loop {
                     match self.refine(params, omega, cand, start.take(), opts.max_refine_iter) {
-                        Some(l) if !self.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
+                        Some(l) if !self.sel.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
                             break l
                         }
-                        Some(_) if spare < self.spare.len() => {
-                            cand = self.spare[spare];
+                        Some(_) if spare < self.sel.spare.len() => {
+                            cand = self.sel.spare[spare];
                             start = frozen_vectors[ncand + spare].clone();
                             spare += 1;
-                            self.replaced = true;
+                            self.sel.replaced = true;
                         }
                         _ => {
                             refined = false;
@@ -392,13 +255,13 @@ impl Hill {
                         }
                     }
                 };
-                self.raw.push(l);
+                self.sel.raw.push(l);
                 push_central(&mut exps, l, omega);
             }
-            self.cands = cands;
+            self.sel.cands = cands;
         } else {
-            self.raw.extend(self.cands.iter().filter(|c| c.im >= -tie));
-            exps.extend(self.cands.iter().map(|&c| fold_into_strip(c, omega)));
+            self.sel.raw.extend(self.sel.cands.iter().filter(|c| c.im >= -tie));
+            exps.extend(self.sel.cands.iter().map(|&c| fold_into_strip(c, omega)));
         }
         Ok(floquet(exps, omega, opts, refined))
     }
@@ -420,21 +283,21 @@ impl Hill {
     ) -> Result<Floquet> {
         self.project(bal, coeffs, omega)?;
         let params = bal.params();
-        if self.fractional && !opts.refine {
+        if self.op.fractional && !opts.refine {
             // Frozen-order exponents are not roots of T(λ): nothing to track.
-            self.state = None;
-            self.counts.full += 1;
+            self.tr.state = None;
+            self.tr.counts.full += 1;
             return self.full(params, omega, opts);
         }
-        if let Some(st) = self.state.take() {
+        if let Some(st) = self.tr.state.take() {
             if let Some(f) = self.continue_state(params, omega, opts, st) {
-                self.counts.tracked += 1;
+                self.tr.counts.tracked += 1;
                 return Ok(f);
             }
         }
-        self.counts.full += 1;
+        self.tr.counts.full += 1;
         let f = self.full(params, omega, opts);
-        let doubted = self.unconfirmed.take();
+        let doubted = self.tr.unconfirmed.take();
         match &f {
             // Exponents tracked here whose correction was doubted, and which the full
             // analysis confirms one by one: tracking goes on from them, with the motion
@@ -442,10 +305,10 @@ impl Hill {
             // has none, and an exponent moving steadily then fails the correction rule
             // at the next point again).
             Ok(fl) if fl.refined => match doubted {
-                Some(st) if self.confirms(&st, omega) => self.state = Some(st),
+                Some(st) if self.confirms(&st, omega) => self.tr.state = Some(st),
                 _ => self.start_state(params, omega),
             },
-            _ => self.state = None,
+            _ => self.tr.state = None,
         }
         f
     }
@@ -462,7 +325,7 @@ impl Hill {
         omega: f64,
     ) -> Result<()> {
         self.project(bal, coeffs, omega)?;
-        self.assemble_polynomial(bal.params(), omega, false);
+        self.op.assemble_polynomial(bal.params(), omega, false);
         Ok(())
     }
 
@@ -474,8 +337,8 @@ impl Hill {
         omega: f64,
         lambda: Complex64,
     ) -> &[Complex64] {
-        self.eval_t(params, omega, lambda, true);
-        &self.t
+        self.op.eval_t(params, omega, lambda, true);
+        &self.op.t
     }
 
     /// `T'(λ) v` after [`Hill::prepare_operator`].
@@ -486,13 +349,13 @@ impl Hill {
         lambda: Complex64,
         v: &[Complex64],
     ) -> &[Complex64] {
-        self.apply_t(params, omega, lambda, true, v, false);
-        &self.dtv
+        self.op.apply_t(params, omega, lambda, true, v, false);
+        &self.op.dtv
     }
 
     /// Forget the tracked exponents: the next [`Hill::track`] analyses in full.
     pub fn reset(&mut self) {
-        self.state = None;
+        self.tr.state = None;
     }
 
     /// Take over `other`'s tracked exponents (a workspace for the same model and
@@ -501,8 +364,10 @@ impl Hill {
     /// on a step of the curve starts from the step's end this way rather than with a
     /// full analysis.
     pub fn follow(&mut self, other: &Hill) {
-        let same = self.m == other.m && self.degree == other.degree && self.ndof == other.ndof;
-        self.state = if same { other.state.clone() } else { None };
+        let same = self.op.m == other.op.m
+            && self.op.degree == other.op.degree
+            && self.op.ndof == other.op.ndof;
+        self.tr.state = if same { other.tr.state.clone() } else { None };
     }
 
     /// Keep the tracked exponents but forget how they moved: the next [`Hill::track`]
@@ -510,14 +375,14 @@ impl Hill {
     /// that does not continue it in order (the iterates of a root finder go back and
     /// forth).
     pub fn forget_motion(&mut self) {
-        if let Some(st) = self.state.as_mut() {
+        if let Some(st) = self.tr.state.as_mut() {
             st.prev = None;
         }
     }
 
     /// Full analyses and tracked points of [`Hill::track`] so far.
     pub fn counts(&self) -> TrackCounts {
-        self.counts
+        self.tr.counts
     }
 }
 

@@ -6,18 +6,132 @@
 use super::*;
 use crate::error::HillFailure;
 
-impl Hill {
+/// `T(λ)` at one solution and what it is made of: the projections of the signal
+/// gradients, the matrix polynomial of the integer orders, the fractional factors, and
+/// `T(λ)` itself (assembled, or applied to a vector with `T'(λ)`).
+pub(super) struct Operator {
+    pub(super) ndof: usize,
+    pub(super) harmonics: usize,
+    pub(super) len: usize,
+    pub(super) m: usize,
+    pub(super) samples: usize,
+    /// Highest integer order, the degree of the matrix polynomial.
+    pub(super) degree: usize,
+    pub(super) signals: Vec<(Vec<(usize, f64)>, Order)>,
+    /// Some order is fractional at the current parameters, and which signals.
+    pub(super) fractional: bool,
+    pub(super) fractional_signals: Vec<usize>,
+    /// Projection matrices `P[g_{e,j}]`, row-major len×len, index (e * nsig + j).
+    pub(super) proj: Vec<f64>,
+    /// Gradient spectrum `ĝ_m`, `m = 0..=2N`, the scratch of the block formula, and its
+    /// unit spectral factors (`N + 1` ones).
+    ghat: Vec<Complex64>,
+    ext: Vec<Complex64>,
+    ones: Vec<Complex64>,
+    /// One projection assembled column-major (the block formula writes columns)
+    proj_block: faer::Mat<f64>,
+    /// Constant gradient of each projection (`P = g0·I`), if it is one.
+    pub(super) diag: Vec<Option<f64>>,
+    /// `M_0 .. M_degree`, row-major `m × m`.
+    pub(super) coef: Vec<Vec<f64>>,
+    /// Nonzero entries `(index, value)` of `M_1 .. M_degree` (index `r - 1`): mass and
+    /// damping terms are usually linear, their blocks diagonal in the harmonics, and
+    /// `T(λ)` is then `M_0` plus a few entries (see [`Operator::eval_t`]).
+    sparse: Vec<Vec<(usize, f64)>>,
+    /// The real-basis fractional factors and their derivatives per harmonic, and the
+    /// `(q, Ω, λ)` they are for (`None`: scratch of the polynomial's assembly).
+    alpha: Vec<[Complex64; 4]>,
+    alpha_at: Option<(f64, f64, Complex64)>,
+    /// `T(λ)` of [`Operator::eval_t`], row-major (the nonlinear iteration factorises
+    /// it in place).
+    pub(super) t: Vec<Complex64>,
+    /// `T(λ)v`, `T'(λ)v` of [`Operator::apply_t`], and its per-block scratch (`2·len`).
+    pub(super) tv: Vec<Complex64>,
+    pub(super) dtv: Vec<Complex64>,
+    block: Vec<Complex64>,
+}
+
+impl Operator {
+    /// The workspace for `model` at `harmonics` harmonics, `period` forcing periods,
+    /// and a polynomial of `degree`.
+    pub(super) fn new<M: Model>(
+        model: &M,
+        harmonics: usize,
+        period: usize,
+        degree: usize,
+    ) -> Operator {
+        let ndof = model.dofs().len();
+        let len = 2 * harmonics + 1;
+        let m = ndof * len;
+        let signals: Vec<_> = model.signals().iter().map(|s| (s.terms.to_vec(), s.order)).collect();
+        let nsig = signals.len();
+        let zero = Complex64::new(0.0, 0.0);
+        Operator {
+            ndof,
+            harmonics,
+            len,
+            m,
+            samples: crate::fourier::model_sample_count(model, harmonics, period),
+            degree,
+            signals,
+            fractional: model.signals().iter().any(|s| matches!(s.order, Order::Param(_))),
+            fractional_signals: Vec::new(),
+            proj: vec![0.0; ndof * nsig * len * len],
+            ghat: vec![zero; 2 * harmonics + 1],
+            ext: vec![zero; 4 * harmonics + 1],
+            ones: vec![Complex64::new(1.0, 0.0); harmonics + 1],
+            proj_block: faer::Mat::zeros(len, len),
+            diag: vec![None; ndof * nsig],
+            coef: (0..=degree).map(|_| vec![0.0; m * m]).collect(),
+            sparse: (0..degree).map(|_| Vec::with_capacity(m * m)).collect(),
+            alpha: vec![[zero; 4]; harmonics + 1],
+            alpha_at: None,
+            t: vec![zero; m * m],
+            tv: vec![zero; m],
+            dtv: vec![zero; m],
+            block: vec![zero; 2 * len],
+        }
+    }
+
+    /// The order of signal `j` if it is an integer at `params` (a parameter order such
+    /// as `p = 1` included, up to the polynomial's degree): its factor `(λ + ikΩ)^q`
+    /// is then polynomial, exact in the companion linearisation, with nothing to refine.
+    pub(super) fn integer_order(&self, j: usize, params: &[f64]) -> Option<usize> {
+        match self.signals[j].1 {
+            Order::Int(q) => Some(q as usize),
+            order => {
+                let q = order.value(params);
+                (q >= 0.0 && q.fract() == 0.0 && q <= self.degree as f64).then_some(q as usize)
+            }
+        }
+    }
+
+    /// Which orders are fractional at `params`; whether that changed between none and
+    /// some (the kind of problem).
+    fn set_orders(&mut self, params: &[f64]) -> bool {
+        self.fractional_signals.clear();
+        for j in 0..self.signals.len() {
+            if self.integer_order(j, params).is_none() {
+                self.fractional_signals.push(j);
+            }
+        }
+        let fractional = !self.fractional_signals.is_empty();
+        let changed = fractional != self.fractional;
+        self.fractional = fractional;
+        changed
+    }
+
     /// Galerkin projections `P[g_{e,j}]` of the signal gradients at the solution:
     /// from the gradients' spectra `ĝ_m`, `m ≤ 2N`, by the harmonic balance Jacobian's
     /// own block formula with unit spectral factors (the same samples, so the same
     /// projection as a direct quadrature of `g φ_l φ_k`, at `O(N²)` instead of
-    /// `O(M N²)`).
-    pub(super) fn project<M: Model>(
+    /// `O(M N²)`). Whether the orders changed kind ([`Operator::set_orders`]).
+    pub(super) fn project_gradients<M: Model>(
         &mut self,
         bal: &mut Balance<'_, M>,
         coeffs: &[f64],
         omega: f64,
-    ) -> Result<()> {
+    ) -> Result<bool> {
         let (len, ns, nh) = (self.len, self.samples, self.harmonics);
         let nsig = self.signals.len();
         if bal.samples() != ns || bal.len() != self.m {
@@ -60,8 +174,7 @@ impl Hill {
                 }
             }
         }
-        self.set_orders(bal.params());
-        Ok(())
+        Ok(self.set_orders(bal.params()))
     }
 
     /// `M_r` of `T(λ) = Σ_r λ^r M_r` from the integer-order signals, plus (if `frozen`)
@@ -126,7 +239,7 @@ impl Hill {
     /// `T(λ)` (row-major, into `self.t`): the polynomial `self.coef` (`M_0` in full, the
     /// higher coefficients by their nonzero entries), and, if `exact`, the fractional
     /// signals with their true factors (principal branch; `self.coef` then assembled
-    /// with `frozen = false`). `T'(λ)` is only ever applied: [`Hill::apply_t`].
+    /// with `frozen = false`). `T'(λ)` is only ever applied: [`Operator::apply_t`].
     pub(super) fn eval_t(&mut self, params: &[f64], omega: f64, lambda: Complex64, exact: bool) {
         let (len, nh, nsig, m, d) =
             (self.len, self.harmonics, self.signals.len(), self.m, self.degree);
@@ -195,7 +308,7 @@ impl Hill {
     /// certification step of [`Hill::newton`]): `M_0 v` in full (real times complex),
     /// the higher coefficients by their nonzero entries, and, if `exact`, each
     /// fractional block `c·P·D` applied as `D` then `P`, the operators of
-    /// [`Hill::eval_t`]. Without `want_tv` (a Newton step needs `T'(λ)v` only) the
+    /// [`Operator::eval_t`]. Without `want_tv` (a Newton step needs `T'(λ)v` only) the
     /// dense `M_0 v` is skipped and `self.tv` is not valid.
     #[allow(clippy::too_many_arguments)] // the iteration's inputs, as in `newton`
     pub(super) fn apply_t(
@@ -403,19 +516,19 @@ mod tests {
             let mut hill = Hill::new(model, nh).unwrap();
             hill.project(&mut bal, &sol.coeffs, omega).unwrap();
             let params = bal.params().to_vec();
-            hill.assemble_polynomial(&params, omega, false);
-            let m = hill.m;
+            hill.op.assemble_polynomial(&params, omega, false);
+            let m = hill.op.m;
             let v: Vec<Complex64> =
                 (0..m).map(|i| Complex64::new((i as f64 * 0.7).sin(), (i as f64).cos())).collect();
             let tv_at = |hill: &mut Hill, l: Complex64| {
-                hill.apply_t(&params, omega, l, true, &v, true);
-                (hill.tv.clone(), hill.dtv.clone())
+                hill.op.apply_t(&params, omega, l, true, &v, true);
+                (hill.op.tv.clone(), hill.op.dtv.clone())
             };
             let (tv, dtv) = tv_at(&mut hill, lambda);
-            hill.eval_t(&params, omega, lambda, true);
-            let scale = hill.t.iter().fold(0.0f64, |a, z| a.max(z.norm()));
+            hill.op.eval_t(&params, omega, lambda, true);
+            let scale = hill.op.t.iter().fold(0.0f64, |a, z| a.max(z.norm()));
             for i in 0..m {
-                let dense: Complex64 = (0..m).map(|j| hill.t[i * m + j] * v[j]).sum();
+                let dense: Complex64 = (0..m).map(|j| hill.op.t[i * m + j] * v[j]).sum();
                 assert!(
                     (dense - tv[i]).norm() <= 1e-13 * scale * m as f64,
                     "{i}: {dense} vs {}",
@@ -472,9 +585,9 @@ mod tests {
             let mut bal = Balance::new(model, nh).unwrap();
             let mut hill = Hill::new(model, nh).unwrap();
             hill.project(&mut bal, &sol.coeffs, omega).unwrap();
-            let (len, ns) = (hill.len, hill.samples);
+            let (len, ns) = (hill.op.len, hill.op.samples);
             let mut nonconstant = 0;
-            for (idx, d) in hill.diag.iter().enumerate() {
+            for (idx, d) in hill.op.diag.iter().enumerate() {
                 if d.is_some() {
                     continue;
                 }
@@ -488,7 +601,7 @@ mod tests {
                         l => ((l - nh) as f64 * th).sin(),
                     }
                 };
-                let p = &hill.proj[idx * len * len..][..len * len];
+                let p = &hill.op.proj[idx * len * len..][..len * len];
                 let big = g.iter().fold(0.0f64, |a, x| a.max(x.abs()));
                 for l in 0..len {
                     let w = if l == 0 { 1.0 } else { 2.0 } / ns as f64;

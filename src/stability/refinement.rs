@@ -3,6 +3,22 @@
 
 use super::*;
 
+/// Scratch of the nonlinear iteration: the pivots of `T(λ)`'s LU, the solution of a
+/// step, the adjoint vector of the certification step.
+pub(super) struct Scratch {
+    piv: Vec<usize>,
+    x: Vec<Complex64>,
+    w: Vec<Complex64>,
+}
+
+impl Scratch {
+    /// For `m` unknowns.
+    pub(super) fn new(m: usize) -> Scratch {
+        let zero = Complex64::new(0.0, 0.0);
+        Scratch { piv: vec![0; m], x: vec![zero; m], w: vec![zero; m] }
+    }
+}
+
 impl Hill {
     /// One step of inverse iteration at `l0` from a fixed start vector: the start of
     /// the nonlinear iteration when no eigenvector is known.
@@ -13,10 +29,10 @@ impl Hill {
         l0: Complex64,
         exact: bool,
     ) -> Option<Vec<Complex64>> {
-        self.eval_t(params, omega, l0, exact);
+        self.op.eval_t(params, omega, l0, exact);
         let mut v: Vec<Complex64> =
-            (0..self.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
-        if !lu_solve(&mut self.t, self.m, &mut self.piv, &mut v) {
+            (0..self.op.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
+        if !lu_solve(&mut self.op.t, self.op.m, &mut self.nw.piv, &mut v) {
             return None;
         }
         normalise(&mut v)?;
@@ -46,14 +62,14 @@ impl Hill {
         for _ in 0..RECENTRE_TRIES {
             let (v, factored) = match v0.take() {
                 Some(v) => (v, false),
-                // `self.t` holds the LU of T(start) from the start vector: the first
+                // `self.op.t` holds the LU of T(start) from the start vector: the first
                 // step reuses it.
                 None => (self.start_vector(params, omega, start, true)?, true),
             };
             let (mut l, mut v, _) =
                 self.newton(params, omega, start, v, max_iter, factored, true)?;
             to_upper_half(&mut l, &mut v, omega);
-            let c = spread(&v, self.ndof, self.harmonics).centre;
+            let c = spread(&v, self.op.ndof, self.op.harmonics).centre;
             if c.abs() <= 0.5 {
                 return Some(l);
             }
@@ -66,7 +82,7 @@ impl Hill {
     /// unit norm: `T(λ) x = T'(λ) v`, `λ ← λ - (uᴴv)/(uᴴx)`, `v ← x/(uᴴx)` with
     /// `u` the start vector. Converged when the step is below `1e-12·scale`, or below
     /// `1e-7·scale` and `1e-3` times the previous one (quadratic convergence observed:
-    /// the remaining error is then below `1e-10·scale`). `factored`: `self.t` already
+    /// the remaining error is then below `1e-10·scale`). `factored`: `self.op.t` already
     /// holds the LU of `T(l0)`. The root, its unit eigenvector and the iterations.
     ///
     /// After each step the next one is first tried without a factorisation: with `w`
@@ -88,7 +104,7 @@ impl Hill {
         factored: bool,
         exact: bool,
     ) -> Option<(Complex64, Vec<Complex64>, usize)> {
-        let m = self.m;
+        let m = self.op.m;
         let u = v.clone();
         let mut lambda = l0;
         let scale = omega.max(l0.norm());
@@ -98,27 +114,27 @@ impl Hill {
         for it in 0..max_iter {
             let reuse = factored && it == 0;
             if !reuse {
-                self.eval_t(params, omega, lambda, exact);
+                self.op.eval_t(params, omega, lambda, exact);
             }
-            self.apply_t(params, omega, lambda, exact, &v, false);
-            self.x.copy_from_slice(&self.dtv);
+            self.op.apply_t(params, omega, lambda, exact, &v, false);
+            self.nw.x.copy_from_slice(&self.op.dtv);
             let solved = if reuse {
-                complex_lu_solve(&self.t, m, &self.piv, &mut self.x);
+                complex_lu_solve(&self.op.t, m, &self.nw.piv, &mut self.nw.x);
                 true
             } else {
-                lu_solve(&mut self.t, m, &mut self.piv, &mut self.x)
+                lu_solve(&mut self.op.t, m, &mut self.nw.piv, &mut self.nw.x)
             };
             if !solved {
                 return None;
             }
-            let ux: Complex64 = u.iter().zip(&self.x).map(|(a, b)| a.conj() * b).sum();
+            let ux: Complex64 = u.iter().zip(&self.nw.x).map(|(a, b)| a.conj() * b).sum();
             let uv: Complex64 = u.iter().zip(&v).map(|(a, b)| a.conj() * b).sum();
             if ux.norm() == 0.0 || !ux.re.is_finite() || !ux.im.is_finite() {
                 return None;
             }
             let step = uv / ux;
             lambda -= step;
-            for (vi, xi) in v.iter_mut().zip(&self.x) {
+            for (vi, xi) in v.iter_mut().zip(&self.nw.x) {
                 *vi = xi / ux;
             }
             if !lambda.re.is_finite() || !lambda.im.is_finite() {
@@ -132,11 +148,11 @@ impl Hill {
             last = s;
             // The Rayleigh step at the new λ: w from the factors of T(λ_k), T(λ)v and
             // T'(λ)v without assembling T(λ).
-            self.w.copy_from_slice(&u);
-            complex_lu_solve_adjoint(&self.t, m, &self.piv, &mut self.w);
-            self.apply_t(params, omega, lambda, exact, &v, true);
-            let wr: Complex64 = self.w.iter().zip(&self.tv).map(|(a, b)| a.conj() * b).sum();
-            let wd: Complex64 = self.w.iter().zip(&self.dtv).map(|(a, b)| a.conj() * b).sum();
+            self.nw.w.copy_from_slice(&u);
+            complex_lu_solve_adjoint(&self.op.t, m, &self.nw.piv, &mut self.nw.w);
+            self.op.apply_t(params, omega, lambda, exact, &v, true);
+            let wr: Complex64 = self.nw.w.iter().zip(&self.op.tv).map(|(a, b)| a.conj() * b).sum();
+            let wd: Complex64 = self.nw.w.iter().zip(&self.op.dtv).map(|(a, b)| a.conj() * b).sum();
             let delta = wr / wd;
             if delta.re.is_finite() && delta.im.is_finite() && done(delta.norm(), last) {
                 return converged(lambda - delta, v, it + 1);

@@ -3,13 +3,48 @@
 
 use super::*;
 
+/// The full analysis's eigenvalues, the ones it keeps and what it keeps them by.
+pub(super) struct Selection {
+    /// All eigenvalues, then the kept ones (`count`, conjugates included).
+    pub(super) cands: Vec<Complex64>,
+    /// [`Spread`] of each kept candidate's eigenvector (see [`Hill::select_centred`]).
+    pub(super) centres: Vec<Spread>,
+    /// The best-ranked eigenvalues the selection left out (not copies of kept ones, at
+    /// most `SPARE_TRIES`): replacements when two kept candidates refine to one root.
+    pub(super) spare: Vec<Complex64>,
+    /// For fractional models, the frozen eigenvector (first companion block) of each
+    /// eigenvalue in `cands` before the selection, `m` entries each: the selection's
+    /// copy test ([`Hill::select_centred`]).
+    pub(super) cand_vectors: Vec<Complex64>,
+    /// The last full analysis replaced a candidate by a spare (its selection was not
+    /// clean: tracking does not start from it).
+    pub(super) replaced: bool,
+    /// Exponents of the last full analysis, one per conjugate pair, not folded: the
+    /// selected eigenvalues (integer orders) or their refined roots (fractional).
+    pub(super) raw: Vec<Complex64>,
+}
+
+impl Selection {
+    /// For `big` eigenvalues.
+    pub(super) fn new(big: usize) -> Selection {
+        Selection {
+            cands: Vec::with_capacity(big),
+            centres: Vec::with_capacity(big),
+            spare: Vec::with_capacity(big),
+            cand_vectors: Vec::new(),
+            replaced: false,
+            raw: Vec::with_capacity(big),
+        }
+    }
+}
+
 impl Hill {
-    /// Keep `count` of the eigenvalues in `self.cands`, one per Floquet exponent: the
+    /// Keep `count` of the eigenvalues in `self.sel.cands`, one per Floquet exponent: the
     /// copies whose eigenvectors are centred in harmonic index (book, *Continuation*,
     /// *Which copy*), smallest rank ([`Spread::key`]) first; among near-equal ranks the larger
     /// real part first, so that a growing exponent is never the one left out. Values
     /// equal modulo `iΩ` are the same exponent (at `|Im λ| = Ω/2`, period doubling,
-    /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.centres`.
+    /// `λ` and `conj λ = λ - iΩ` both appear): one is kept. Sets `self.sel.centres`.
     pub(super) fn select_centred(
         &mut self,
         params: &[f64],
@@ -18,7 +53,7 @@ impl Hill {
         known: Option<&[Spread]>,
     ) {
         let tie = 1e-12 * omega;
-        let all = std::mem::take(&mut self.cands);
+        let all = std::mem::take(&mut self.sel.cands);
         // (eigenvalue, spread, index in `all`, conjugated)
         let mut scored: Vec<(Complex64, Spread, usize, bool)> = Vec::with_capacity(all.len());
         for (idx, &l) in all.iter().enumerate() {
@@ -44,40 +79,40 @@ impl Hill {
             start = end;
         }
         let same_tie = 1e-6 * omega;
-        self.cands.clear();
-        self.centres.clear();
-        self.spare.clear();
-        let vectors = std::mem::take(&mut self.cand_vectors);
-        let has_vectors = vectors.len() == all.len() * self.m;
+        self.sel.cands.clear();
+        self.sel.centres.clear();
+        self.sel.spare.clear();
+        let vectors = std::mem::take(&mut self.sel.cand_vectors);
+        let has_vectors = vectors.len() == all.len() * self.op.m;
         let mut kept: Vec<(usize, bool)> = Vec::with_capacity(count);
         for &(z, c, idx, conj) in &scored {
-            let same = self.cands.iter().any(|&k| {
+            let same = self.sel.cands.iter().any(|&k| {
                 let d = fold_into_strip(z - k, omega);
                 d.re.abs() <= same_tie && d.im.abs() <= same_tie
             });
             if same {
                 continue;
             }
-            if self.cands.len() == count {
+            if self.sel.cands.len() == count {
                 // One per conjugate pair, as the refinement takes them; not a copy of a
                 // kept one, which would refine to the same root as it.
                 if z.im >= -tie
-                    && self.spare.len() < SPARE_TRIES
+                    && self.sel.spare.len() < SPARE_TRIES
                     && !(has_vectors && self.copies_kept(&vectors, &kept, z, idx, conj, omega))
                 {
-                    self.spare.push(z);
+                    self.sel.spare.push(z);
                 }
                 continue;
             }
-            self.cands.push(z);
-            self.centres.push(c);
+            self.sel.cands.push(z);
+            self.sel.centres.push(c);
             kept.push((idx, conj));
         }
-        self.cand_vectors = vectors;
+        self.sel.cand_vectors = vectors;
     }
 
     /// Whether the frozen eigenvalue `z` (`all[idx]`, conjugated if `conj`) is a copy
-    /// of a kept one (`self.cands`, sources `kept`), off by more than rounding: the
+    /// of a kept one (`self.sel.cands`, sources `kept`), off by more than rounding: the
     /// frozen fractional factors `(±ikΩ)^q` do not shift with `λ` as the true ones do,
     /// so copies of one exponent are not `iΩ` apart exactly (by up to 5e-3·Ω on the
     /// 5-mass chain at its resonance), but their eigenvectors still are the harmonic
@@ -93,8 +128,8 @@ impl Hill {
         conj: bool,
         omega: f64,
     ) -> bool {
-        let m = self.m;
-        self.cands.iter().zip(kept).any(|(&k, &(ik, ck))| {
+        let m = self.op.m;
+        self.sel.cands.iter().zip(kept).any(|(&k, &(ik, ck))| {
             let d = z - k;
             let j = (d.im / omega).round();
             j != 0.0
@@ -105,8 +140,8 @@ impl Hill {
                     &vectors[idx * m..(idx + 1) * m],
                     conj,
                     j as i64,
-                    self.ndof,
-                    self.harmonics,
+                    self.op.ndof,
+                    self.op.harmonics,
                 ) >= COPY_OVERLAP
         })
     }
@@ -119,7 +154,7 @@ impl Hill {
             .start_vector(params, omega, l, false)
             .or_else(|| self.start_vector(params, omega, l + 1e-10 * omega.max(l.norm()), false));
         v.map_or(Spread { centre: f64::INFINITY, spread: f64::INFINITY }, |v| {
-            spread(&v, self.ndof, self.harmonics)
+            spread(&v, self.op.ndof, self.op.harmonics)
         })
     }
 }

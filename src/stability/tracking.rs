@@ -5,7 +5,7 @@ use super::refinement::{normalise, to_upper_half};
 use super::*;
 
 impl Hill {
-    /// Tracking state from the last full analysis (`self.raw`), if its selection is
+    /// Tracking state from the last full analysis (`self.sel.raw`), if its selection is
     /// clean: every selected eigenvalue centred (`|centre| ≤ CENTRE_MAX`), `q_max·ndof`
     /// of them counted with conjugates, none replaced by a spare, and well separated
     /// from each other, their conjugates and copies. (How clearly the eigenvalues left
@@ -15,12 +15,12 @@ impl Hill {
     /// part of `T` is the one the full analysis left assembled (exact for fractional
     /// models: the state holds their refined roots).
     pub(super) fn start_state(&mut self, params: &[f64], omega: f64) {
-        self.state = None;
+        self.tr.state = None;
         let Some(sep) = self.clean_selection(omega) else { return };
-        let exact = self.fractional;
-        let mut lambdas = Vec::with_capacity(self.raw.len());
-        let mut vectors = Vec::with_capacity(self.raw.len());
-        let raw = std::mem::take(&mut self.raw);
+        let exact = self.op.fractional;
+        let mut lambdas = Vec::with_capacity(self.sel.raw.len());
+        let mut vectors = Vec::with_capacity(self.sel.raw.len());
+        let raw = std::mem::take(&mut self.sel.raw);
         for &l0 in &raw {
             let Some(v) = self.start_vector(params, omega, l0, exact) else { break };
             match self.newton(params, omega, l0, v, 30, true, exact) {
@@ -32,24 +32,24 @@ impl Hill {
             }
         }
         let ok = lambdas.len() == raw.len();
-        self.raw = raw;
+        self.sel.raw = raw;
         if ok {
-            self.state = Some(TrackState { omega, lambdas, vectors, sep, prev: None });
+            self.tr.state = Some(TrackState { omega, lambdas, vectors, sep, prev: None });
         }
     }
 
     /// The separations of the last full analysis's exponents if its selection is
     /// clean (see [`Hill::start_state`]).
     fn clean_selection(&self, omega: f64) -> Option<Vec<f64>> {
-        let n_out: usize = self.raw.iter().map(|&l| if real(l, omega) { 1 } else { 2 }).sum();
-        if self.raw.is_empty()
-            || self.replaced
+        let n_out: usize = self.sel.raw.iter().map(|&l| if real(l, omega) { 1 } else { 2 }).sum();
+        if self.sel.raw.is_empty()
+            || self.sel.replaced
             || n_out != self.central_count()
-            || self.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
+            || self.sel.centres.iter().any(|c| c.centre.abs() > CENTRE_MAX)
         {
             return None;
         }
-        let sep = separations(&self.raw, omega);
+        let sep = separations(&self.sel.raw, omega);
         sep.iter().all(|&s| s >= MIN_SEPARATION * omega).then_some(sep)
     }
 
@@ -65,13 +65,13 @@ impl Hill {
     /// tracking on from confirmed sets disagreed there with the full analyses of
     /// `tests/stability` (the torus bubble, the 5-mass chain at Ω = 0.301).
     pub(super) fn confirms(&self, st: &TrackState, omega: f64) -> bool {
-        if self.fractional || st.omega != omega || st.lambdas.len() != self.raw.len() {
+        if self.op.fractional || st.omega != omega || st.lambdas.len() != self.sel.raw.len() {
             return false;
         }
-        let mut used = vec![false; self.raw.len()];
+        let mut used = vec![false; self.sel.raw.len()];
         st.lambdas.iter().all(|&l| {
-            let found =
-                (0..self.raw.len()).find(|&k| !used[k] && same_exponent(l, self.raw[k], omega));
+            let found = (0..self.sel.raw.len())
+                .find(|&k| !used[k] && same_exponent(l, self.sel.raw[k], omega));
             found.map(|k| used[k] = true).is_some()
         })
     }
@@ -85,7 +85,7 @@ impl Hill {
     /// ([`Spread::key`]: a spurious eigenvalue of truncation, centre 0 with its energy
     /// at far harmonics, is not a representative).
     fn distinct_families(&self, st: &TrackState, omega: f64) -> bool {
-        let (ndof, nh) = (self.ndof, self.harmonics);
+        let (ndof, nh) = (self.op.ndof, self.op.harmonics);
         let n = st.lambdas.len();
         if st.vectors.iter().any(|v| spread(v, ndof, nh).key() > CENTRE_MAX) {
             return false;
@@ -108,7 +108,7 @@ impl Hill {
     /// the correction rule fires (every exponent converged, each stays centred, real or
     /// complex as it was, and apart from the others), an integer-order set that
     /// [`Hill::distinct_families`] certifies is kept; otherwise the continued exponents
-    /// are kept in `self.unconfirmed` for the full analysis to confirm.
+    /// are kept in `self.tr.unconfirmed` for the full analysis to confirm.
     pub(super) fn continue_state(
         &mut self,
         params: &[f64],
@@ -118,9 +118,9 @@ impl Hill {
     ) -> Option<Floquet> {
         // Integer orders: the polynomial; fractional: its integer part, the fractional
         // signals exact in `eval_t` (the tracked values are the refined roots).
-        self.unconfirmed = None;
-        let exact = self.fractional;
-        self.assemble_polynomial(params, omega, !exact);
+        self.tr.unconfirmed = None;
+        let exact = self.op.fractional;
+        self.op.assemble_polynomial(params, omega, !exact);
         // Linear predictor in Ω (ratio of the steps, clamped; 1 on the parameter axis).
         let ratio = match &st.prev {
             Some((w0, _)) if (st.omega - w0).abs() > 0.0 && omega != st.omega => {
@@ -147,16 +147,16 @@ impl Hill {
             // multiple of Ω, its energy now sits nearer the next harmonic): continue as
             // the next copy, `λ + ijΩ` with the eigenvector shifted by `j` harmonics,
             // rather than analyse in full.
-            let mut centre = spread(&vn, self.ndof, self.harmonics).centre;
+            let mut centre = spread(&vn, self.op.ndof, self.op.harmonics).centre;
             let mut moved = CopyMove::default();
             if centre.abs() > 0.5 {
                 moved.shift = centre.round();
                 let w = Complex64::new(0.0, moved.shift * omega);
-                shift_harmonics(&mut vn, self.ndof, self.harmonics, moved.shift as i64);
+                shift_harmonics(&mut vn, self.op.ndof, self.op.harmonics, moved.shift as i64);
                 normalise(&mut vn)?;
                 (ln, vn, _) = self.newton(params, omega, ln + w, vn, TRACK_ITER, false, exact)?;
                 pred += w;
-                centre = spread(&vn, self.ndof, self.harmonics).centre;
+                centre = spread(&vn, self.op.ndof, self.op.harmonics).centre;
             }
             // Conjugation negates the centre: its size is unchanged.
             if to_upper_half(&mut ln, &mut vn, omega) {
@@ -190,15 +190,15 @@ impl Hill {
         let next = TrackState { omega, lambdas, vectors, sep, prev };
         // Integer orders: a doubted set that still holds one exponent of each family
         // holds them all (there are as many families as tracked exponents).
-        if doubted && (self.fractional || !self.distinct_families(&next, omega)) {
-            self.unconfirmed = Some(next);
+        if doubted && (self.op.fractional || !self.distinct_families(&next, omega)) {
+            self.tr.unconfirmed = Some(next);
             return None;
         }
         let mut exps = Vec::with_capacity(2 * next.lambdas.len());
         for &c in &next.lambdas {
             push_central(&mut exps, c, omega);
         }
-        self.state = Some(next);
+        self.tr.state = Some(next);
         Some(floquet(exps, omega, opts, true))
     }
 }
@@ -264,6 +264,17 @@ pub(super) const MIN_SEPARATION: f64 = 1e-6;
 /// to the next copy when it passes 1/2), and so must every exponent a full analysis
 /// selects for tracking to start.
 pub(super) const CENTRE_MAX: f64 = 0.5;
+
+/// What tracking carries from point to point.
+#[derive(Default)]
+pub(super) struct Tracker {
+    /// Tracking state (see [`Hill::track`]).
+    pub(super) state: Option<TrackState>,
+    /// Exponents continued to the current point that only the correction rule
+    /// doubted, kept for the full analysis there to confirm (see [`Hill::track`]).
+    pub(super) unconfirmed: Option<TrackState>,
+    pub(super) counts: TrackCounts,
+}
 
 /// Tracked exponents of the last point.
 #[derive(Clone)]
