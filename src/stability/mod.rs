@@ -202,23 +202,27 @@ impl Hill {
         self.sel.raw.clear();
         self.sel.replaced = false;
         if self.op.fractional && opts.refine {
-            // Each candidate's eigenvector of the frozen problem (one inverse iteration
-            // at its eigenvalue, nearly singular there): a start that is already an
-            // eigenvector, not the one step from a generic vector on the true T(λ),
-            // which at low Ω mixes in the copies of other modes (spaced by Ω) and sent
-            // the iteration to another mode's root.
-            let frozen_vectors: Vec<Option<Vec<Complex64>>> = self
-                .sel
-                .cands
-                .clone()
+            // Each candidate's eigenvector of the frozen problem: a start that is
+            // already an eigenvector, not the one step from a generic vector on the true
+            // T(λ), which at low Ω mixes in the copies of other modes (spaced by Ω) and
+            // sent the iteration to another mode's root. The companion eigensolve gave
+            // it; after the pencil's (no vectors), one inverse iteration at the
+            // eigenvalue, nearly singular there.
+            let m = self.op.m;
+            let starts: Vec<Complex64> =
+                self.sel.cands.iter().chain(self.sel.spare.iter()).copied().collect();
+            let frozen_vectors: Vec<Option<Vec<Complex64>>> = starts
                 .iter()
-                .chain(self.sel.spare.clone().iter())
-                .map(|&c| {
+                .enumerate()
+                .map(|(i, &c)| {
                     if c.im < -tie {
                         return None;
                     }
-                    self.start_vector(params, omega, c, false).or_else(|| {
-                        self.start_vector(params, omega, c + 1e-10 * omega.max(c.norm()), false)
+                    self.sel.frozen_vector(i, m).or_else(|| {
+                        self.start_vector(params, omega, c, false).or_else(|| {
+                            let off = c + 1e-10 * omega.max(c.norm());
+                            self.start_vector(params, omega, off, false)
+                        })
                     })
                 })
                 .collect();

@@ -16,6 +16,10 @@ pub(super) struct Selection {
     /// eigenvalue in `cands` before the selection, `m` entries each: the selection's
     /// copy test ([`Hill::select_centred`]).
     pub(super) cand_vectors: Vec<Complex64>,
+    /// Where each kept candidate, then each spare, came from: its index among all
+    /// eigenvalues and whether it is that one's conjugate (its frozen eigenvector in
+    /// `cand_vectors`, see [`Selection::frozen_vector`]).
+    sources: Vec<(usize, bool)>,
     /// The last full analysis replaced a candidate by a spare (its selection was not
     /// clean: tracking does not start from it).
     pub(super) replaced: bool,
@@ -25,6 +29,17 @@ pub(super) struct Selection {
 }
 
 impl Selection {
+    /// The frozen eigenvector (unit norm) of kept candidate `i`, or of spare
+    /// `i - count` beyond the kept ones, if the eigensolve gave the vectors (the
+    /// companion's, not the pencil's).
+    pub(super) fn frozen_vector(&self, i: usize, m: usize) -> Option<Vec<Complex64>> {
+        let &(idx, conj) = self.sources.get(i)?;
+        let v = self.cand_vectors.get(idx * m..(idx + 1) * m)?;
+        let mut v: Vec<Complex64> = v.iter().map(|&z| if conj { z.conj() } else { z }).collect();
+        super::refinement::normalise(&mut v)?;
+        Some(v)
+    }
+
     /// For `big` eigenvalues.
     pub(super) fn new(big: usize) -> Selection {
         Selection {
@@ -32,6 +47,7 @@ impl Selection {
             centres: Vec::with_capacity(big),
             spare: Vec::with_capacity(big),
             cand_vectors: Vec::new(),
+            sources: Vec::with_capacity(big),
             replaced: false,
             raw: Vec::with_capacity(big),
         }
@@ -85,6 +101,7 @@ impl Hill {
         let vectors = std::mem::take(&mut self.sel.cand_vectors);
         let has_vectors = vectors.len() == all.len() * self.op.m;
         let mut kept: Vec<(usize, bool)> = Vec::with_capacity(count);
+        let mut spare_sources: Vec<(usize, bool)> = Vec::with_capacity(SPARE_TRIES);
         for &(z, c, idx, conj) in &scored {
             let same = self.sel.cands.iter().any(|&k| {
                 let d = fold_into_strip(z - k, omega);
@@ -101,6 +118,7 @@ impl Hill {
                     && !(has_vectors && self.copies_kept(&vectors, &kept, z, idx, conj, omega))
                 {
                     self.sel.spare.push(z);
+                    spare_sources.push((idx, conj));
                 }
                 continue;
             }
@@ -109,6 +127,8 @@ impl Hill {
             kept.push((idx, conj));
         }
         self.sel.cand_vectors = vectors;
+        self.sel.sources = kept;
+        self.sel.sources.extend(spare_sources);
     }
 
     /// Whether the frozen eigenvalue `z` (`all[idx]`, conjugated if `conj`) is a copy
