@@ -293,18 +293,20 @@ pub(super) struct TrackState {
 mod tests {
     use super::*;
 
-    /// A 2-DOF vector at N = 4 with its energy at harmonics `-1..=1`.
+    /// A unit 2-DOF vector at N = 4 with its energy at harmonics `-1..=1`: `a0`,
+    /// `a1` and `b1` of each DOF set (indices 0, 1 and N + 1 = 5 of its block).
     fn vector(seed: f64) -> Vec<Complex64> {
-        let (ndof, nh) = (2, 4);
-        let len = 2 * nh + 1;
-        let mut v = vec![Complex64::new(0.0, 0.0); ndof * len];
-        for d in 0..ndof {
-            let b = &mut v[d * len..(d + 1) * len];
-            let x = seed + 1.3 * d as f64;
-            b[0] = Complex64::new(x.sin(), 0.4 * x.cos());
-            b[1] = Complex64::new(0.3 * x.cos(), 0.1);
-            b[nh + 1] = Complex64::new(0.2, -0.3 * x.sin());
-        }
+        let mut v: Vec<Complex64> = (0..18)
+            .map(|i| {
+                let x = seed + 1.3 * (i / 9) as f64;
+                match i % 9 {
+                    0 => Complex64::new(x.sin(), 0.4 * x.cos()),
+                    1 => Complex64::new(0.3 * x.cos(), 0.1),
+                    5 => Complex64::new(0.2, -0.3 * x.sin()),
+                    _ => Complex64::new(0.0, 0.0),
+                }
+            })
+            .collect();
         normalise(&mut v).unwrap();
         v
     }
