@@ -23,10 +23,9 @@ impl Companion {
     /// For a polynomial of `m × m` coefficients and a companion of size `big`.
     pub(super) fn new(m: usize, big: usize) -> Companion {
         use faer::linalg::{evd, lu::partial_pivoting as lu};
-        let no = evd::ComputeEigenvectors::No;
         let scratch = evd::evd_scratch::<f64>(
             big,
-            no,
+            evd::ComputeEigenvectors::No,
             evd::ComputeEigenvectors::Yes,
             Par::Seq,
             Default::default(),

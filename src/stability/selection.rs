@@ -100,7 +100,8 @@ impl Hill {
         self.sel.spare.clear();
         let vectors = std::mem::take(&mut self.sel.cand_vectors);
         let has_vectors = vectors.len() == all.len() * self.op.m;
-        let mut kept: Vec<(usize, bool)> = Vec::with_capacity(count);
+        // The kept candidates' sources while the spares are chosen, then the spares'.
+        self.sel.sources.clear();
         let mut spare_sources: Vec<(usize, bool)> = Vec::with_capacity(SPARE_TRIES);
         for &(z, c, idx, conj) in &scored {
             let same = self.sel.cands.iter().any(|&k| {
@@ -115,7 +116,7 @@ impl Hill {
                 // kept one, which would refine to the same root as it.
                 if z.im >= -tie
                     && self.sel.spare.len() < SPARE_TRIES
-                    && !(has_vectors && self.copies_kept(&vectors, &kept, z, idx, conj, omega))
+                    && !(has_vectors && self.copies_kept(&vectors, z, idx, conj, omega))
                 {
                     self.sel.spare.push(z);
                     spare_sources.push((idx, conj));
@@ -124,15 +125,14 @@ impl Hill {
             }
             self.sel.cands.push(z);
             self.sel.centres.push(c);
-            kept.push((idx, conj));
+            self.sel.sources.push((idx, conj));
         }
         self.sel.cand_vectors = vectors;
-        self.sel.sources = kept;
         self.sel.sources.extend(spare_sources);
     }
 
     /// Whether the frozen eigenvalue `z` (`all[idx]`, conjugated if `conj`) is a copy
-    /// of a kept one (`self.sel.cands`, sources `kept`), off by more than rounding: the
+    /// of a kept one (`self.sel.cands`, from `self.sel.sources`), off by more than rounding: the
     /// frozen fractional factors `(±ikΩ)^q` do not shift with `λ` as the true ones do,
     /// so copies of one exponent are not `iΩ` apart exactly (by up to 5e-3·Ω on the
     /// 5-mass chain at its resonance), but their eigenvectors still are the harmonic
@@ -142,14 +142,13 @@ impl Hill {
     fn copies_kept(
         &self,
         vectors: &[Complex64],
-        kept: &[(usize, bool)],
         z: Complex64,
         idx: usize,
         conj: bool,
         omega: f64,
     ) -> bool {
         let m = self.op.m;
-        self.sel.cands.iter().zip(kept).any(|(&k, &(ik, ck))| {
+        self.sel.cands.iter().zip(&self.sel.sources).any(|(&k, &(ik, ck))| {
             let d = z - k;
             let j = (d.im / omega).round();
             j != 0.0
