@@ -149,19 +149,9 @@ impl Hill {
     ) -> bool {
         let m = self.op.m;
         self.sel.cands.iter().zip(&self.sel.sources).any(|(&k, &(ik, ck))| {
-            let d = z - k;
-            let j = (d.im / omega).round();
-            j != 0.0
-                && fold_into_strip(d, omega).norm() <= COPY_GAP * omega
-                && copy_overlap(
-                    &vectors[ik * m..(ik + 1) * m],
-                    ck,
-                    &vectors[idx * m..(idx + 1) * m],
-                    conj,
-                    j as i64,
-                    self.op.ndof,
-                    self.op.harmonics,
-                ) >= COPY_OVERLAP
+            let (vk, vz) = (&vectors[ik * m..(ik + 1) * m], &vectors[idx * m..(idx + 1) * m]);
+            let (ndof, nh) = (self.op.ndof, self.op.harmonics);
+            copy_shift((k, vk, ck), (z, vz, conj), omega, ndof, nh).is_some_and(|j| j != 0)
         })
     }
 
@@ -245,6 +235,23 @@ pub(super) fn spread(v: &[Complex64], ndof: usize, nh: usize) -> Spread {
     } else {
         Spread { centre: f64::INFINITY, spread: f64::INFINITY }
     }
+}
+
+/// The shift `j` if `z = k + ijΩ` is a copy of `k`: within [`COPY_GAP`] of it modulo
+/// `iΩ`, with eigenvectors [`COPY_OVERLAP`] alike after the harmonic shift. Each of
+/// `k`, `z` comes with its eigenvector and whether that is to be conjugated.
+pub(super) fn copy_shift(
+    (k, vk, ck): (Complex64, &[Complex64], bool),
+    (z, vz, cz): (Complex64, &[Complex64], bool),
+    omega: f64,
+    ndof: usize,
+    nh: usize,
+) -> Option<i64> {
+    let d = z - k;
+    let j = (d.im / omega).round() as i64;
+    (fold_into_strip(d, omega).norm() <= COPY_GAP * omega
+        && copy_overlap(vk, ck, vz, cz, j, ndof, nh) >= COPY_OVERLAP)
+        .then_some(j)
 }
 
 /// `|⟨S_j a, b⟩| / (‖S_j a‖ ‖b‖)`, `S_j` the harmonic shift of

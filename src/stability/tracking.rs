@@ -92,11 +92,9 @@ impl Hill {
         }
         let copies = |i: usize, k: usize, conj: bool| {
             let z = if conj { st.lambdas[k].conj() } else { st.lambdas[k] };
-            let d = st.lambdas[i] - z;
-            let j = (d.im / omega).round();
-            fold_into_strip(d, omega).norm() <= COPY_GAP * omega
-                && copy_overlap(&st.vectors[k], conj, &st.vectors[i], false, j as i64, ndof, nh)
-                    >= COPY_OVERLAP
+            let (first, second) =
+                ((z, &st.vectors[k][..], conj), (st.lambdas[i], &st.vectors[i][..], false));
+            copy_shift(first, second, omega, ndof, nh).is_some()
         };
         (0..n).all(|i| {
             let own = !real(st.lambdas[i], omega) && copies(i, i, true);
