@@ -6,7 +6,7 @@ use super::*;
 /// Scratch of the nonlinear iteration: the pivots of `T(λ)`'s LU, the solution of a
 /// step, the adjoint vector of the certification step.
 pub(super) struct Scratch {
-    piv: Vec<usize>,
+    pub(super) piv: Vec<usize>,
     x: Vec<Complex64>,
     w: Vec<Complex64>,
 }
@@ -42,7 +42,10 @@ impl Hill {
     /// Nonlinear inverse iteration from the candidate `l0`, then re-centring: the root
     /// it reaches is returned only if its eigenvector is centred (`|centre| ≤ 1/2`);
     /// otherwise it is a copy `λ - ijΩ` of the centred root (centre near `j`), and the
-    /// iteration is restarted from `λ + ijΩ`. `None` if it fails.
+    /// iteration is restarted from `λ + ijΩ`. If the restarts do not settle (the root of
+    /// a mode mixed between two harmonics lands on one copy, then the other), the best
+    /// centred root is kept if its `|centre|` is at most [`OFF_CENTRE_MAX`]: a root of
+    /// `T`, where a frozen value would be none. `None` if it fails.
     ///
     /// Why: the frozen candidate of a mode whose fractional damping is large (the body
     /// and wheel modes of the quarter car, whose `k = 0` block has no damping at all
@@ -59,6 +62,7 @@ impl Hill {
         max_iter: usize,
     ) -> Option<Complex64> {
         let mut start = l0;
+        let mut best: Option<(f64, Complex64)> = None;
         for _ in 0..RECENTRE_TRIES {
             let (v, factored) = match v0.take() {
                 Some(v) => (v, false),
@@ -73,9 +77,12 @@ impl Hill {
             if c.abs() <= 0.5 {
                 return Some(l);
             }
+            if best.is_none_or(|(b, _)| c.abs() < b) {
+                best = Some((c.abs(), l));
+            }
             start = l + Complex64::new(0.0, c.round() * omega);
         }
-        None
+        best.filter(|&(c, _)| c <= OFF_CENTRE_MAX).map(|(_, l)| l)
     }
 
     /// Nonlinear inverse iteration (Ruhe 1973) on `T(λ) v = 0` from `(l0, v)`, `v` of
@@ -176,6 +183,11 @@ pub(super) fn to_upper_half(l: &mut Complex64, v: &mut [Complex64], omega: f64) 
 
 /// Restarts of a fractional refinement that lands on an off-centre copy.
 pub(super) const RECENTRE_TRIES: usize = 3;
+
+/// The largest `|centre|` of a root kept when re-centring does not settle: within one
+/// harmonic of the centre (on the 5-mass chain such roots alternate between centres
+/// about 0.55 and -0.51; those that wander farther, 1.4 to 3.3, are lost).
+pub(super) const OFF_CENTRE_MAX: f64 = 1.0;
 
 /// The result of [`Hill::newton`] at convergence: the root, its unit eigenvector and
 /// the iterations; `None` at exactly zero (where the fractional factors `λ^q` branch)
