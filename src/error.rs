@@ -175,6 +175,10 @@ pub enum HillFailure {
     /// The workspace was made for another model size than the balance it was given.
     #[error("workspace for {samples} samples and {unknowns} unknowns used with a balance of {got_samples} and {got_unknowns}")]
     Workspace { samples: usize, unknowns: usize, got_samples: usize, got_unknowns: usize },
+    /// Counting the roots of `det T` (the verdict where a fractional exponent did not
+    /// refine, the search for a real root a fold left, `Hill::unstable_roots`) failed.
+    #[error("counting the roots of det T failed: {0}")]
+    RootCount(String),
 }
 
 /// A model's structure claim ([`Error::WrongClaim`]).

@@ -265,11 +265,11 @@ pub struct CurveStats {
     /// Points whose stability came from a full Hill analysis; the others were tracked
     /// from their neighbour ([`Hill::track`](crate::stability::Hill::track)).
     pub stability_full: usize,
-    /// Points whose verdict rests on an exponent the fractional refinement did not
-    /// converge to a root of its own (reported at its frozen-order estimate,
-    /// [`Floquet::refined`](crate::stability::Floquet::refined) `false`), or whose
-    /// analysis failed (reported unstable): verdicts to be read with care (book,
-    /// chapter 5, *Its limits*).
+    /// Points where a fractional exponent did not refine to a root of its own (its
+    /// frozen-order value is listed, [`Floquet::refined`](crate::stability::Floquet::refined)
+    /// `false`; the verdict then comes from counting the unstable roots of `det T`,
+    /// [`Floquet::counted`](crate::stability::Floquet::counted)), or whose analysis
+    /// failed (reported unknown, with the reason). Book, chapter 5, *Its limits*.
     pub stability_unrefined: usize,
 }
 

@@ -562,8 +562,9 @@ fn write_curve(
         w(
             out,
             format_args!(
-                "  warning: at {unrefined} of {} points the stability verdict rests on an \
-                 exponent whose fractional refinement failed (its frozen-order estimate)\n",
+                "  warning: at {unrefined} of {} points a fractional exponent did not refine \
+                 (its frozen-order value is listed); the verdict there counts the unstable \
+                 roots of det T instead, or is unknown where that failed\n",
                 curve.points.len(),
             ),
         )?;

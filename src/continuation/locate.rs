@@ -209,7 +209,10 @@ impl<M: Model> Continuation<'_, M> {
             self.tr.coeffs(&y, &mut coeffs);
             let omega = self.tr.omega(&y);
             hill.forget_motion();
-            let Ok(fl) = hill.track(&mut self.tr.bal, &coeffs, omega, so) else {
+            // A counted verdict has no largest real part to bracket.
+            let Some(fl) =
+                hill.track(&mut self.tr.bal, &coeffs, omega, so).ok().filter(|f| !f.counted)
+            else {
                 break;
             };
             let f = if exact { fl.max_real } else { fl.max_real - so.tol * omega };

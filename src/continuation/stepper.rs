@@ -656,7 +656,9 @@ impl<'m, M: Model> Continuation<'m, M> {
                 self.tr.set_point(&node.y);
                 match st.hill.track(&mut self.tr.bal, &coeffs, omega, &st.opts) {
                     Ok(f) => {
-                        node.growth = f.max_real - st.opts.tol * omega;
+                        // A counted verdict has no distance to the threshold.
+                        node.growth =
+                            if f.counted { f64::NAN } else { f.max_real - st.opts.tol * omega };
                         node.crossing = f.leading_crossing(omega);
                         self.trace.stats.stability_unrefined += usize::from(!f.refined);
                         Stability::from_verdict(f.stable)
@@ -686,15 +688,19 @@ impl<'m, M: Model> Continuation<'m, M> {
             return;
         }
         let (g0, g1) = (self.nodes[i].growth, self.nodes[i + 1].growth);
-        if !(g0.is_finite() && g1.is_finite()) {
-            return;
-        }
         let unstable = if sa { i + 1 } else { i };
         let kind = match self.nodes[unstable].crossing {
             Some(Crossing::Real) => BifurcationKind::BranchPoint,
             Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
             _ => BifurcationKind::Torus,
         };
+        if !(g0.is_finite() && g1.is_finite()) {
+            // A verdict counted rather than read off an exponent: nothing to bracket,
+            // the change is reported where it was seen.
+            let y = self.nodes[i + 1].y.clone();
+            self.push_bifurcation(kind, &y, i, false);
+            return;
+        }
         let Some(st) = self.stab.as_mut() else { return };
         let so = st.opts;
         let mut locator = match st.locator.take() {
@@ -711,15 +717,13 @@ impl<'m, M: Model> Continuation<'m, M> {
         if let Some(st) = self.stab.as_mut() {
             st.locator = Some(locator);
         }
-        let (omega, param, _, outputs) = self.point_at(&y);
-        self.trace.bifurcations.push(Bifurcation {
-            kind,
-            omega,
-            param,
-            after: i,
-            outputs,
-            located,
-        });
+        self.push_bifurcation(kind, &y, i, located);
+    }
+
+    /// Report a change of stability at `y`, between nodes `after` and `after + 1`.
+    fn push_bifurcation(&mut self, kind: BifurcationKind, y: &[f64], after: usize, located: bool) {
+        let (omega, param, _, outputs) = self.point_at(y);
+        self.trace.bifurcations.push(Bifurcation { kind, omega, param, after, outputs, located });
         self.queue.push_back(Event::Bifurcation(self.trace.bifurcations.len() - 1));
     }
 }

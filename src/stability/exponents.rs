@@ -11,7 +11,13 @@ pub(super) fn floquet(
 ) -> Floquet {
     exps.sort_by(|a, b| b.re.total_cmp(&a.re));
     let max_real = exps.first().map_or(f64::NEG_INFINITY, |l| l.re);
-    Floquet { stable: max_real <= opts.tol * omega, max_real, exponents: exps, refined }
+    Floquet {
+        stable: max_real <= opts.tol * omega,
+        max_real,
+        exponents: exps,
+        refined,
+        counted: false,
+    }
 }
 
 /// For each exponent (one per conjugate pair, not folded), the distance to the nearest

@@ -12,9 +12,13 @@
 //! `Operator`), `eigensolve` (companion eigenvalues and eigenvectors: `Companion`),
 //! `selection` (one copy of each exponent: `Selection`), `refinement` (roots of the
 //! nonlinear problem: `Scratch`), `tracking` (along a curve: `Tracker`),
-//! `exponents` (arithmetic modulo `iΩ`, the verdict). [`Hill`] holds one of each and
-//! runs them in order; the complex LU is [`crate::linalg`]'s, shared with balance.
+//! `exponents` (arithmetic modulo `iΩ`, the verdict), `count` (roots of `det T` by the
+//! argument principle and by sign changes on the real axis: the verdict where a
+//! refinement failed, and the real exponent a fractional fold leaves). [`Hill`] holds
+//! one of each and runs them in order; the complex LU is [`crate::linalg`]'s, shared
+//! with balance.
 
+mod count;
 mod eigensolve;
 mod exponents;
 mod operator;
@@ -74,6 +78,12 @@ pub struct Floquet {
     /// `false` if some fractional candidate did not converge in the refinement (its
     /// frozen-order value is reported). Always `true` for integer-order models.
     pub refined: bool,
+    /// The verdict `stable` comes from counting the roots of `det T(λ)` with
+    /// `Re λ > tol · Ω` in the central strip (the argument principle), not from
+    /// `exponents`: a candidate did not refine, so the largest real part is not known,
+    /// and no refined exponent was unstable. `max_real` then says nothing about the
+    /// distance to the threshold.
+    pub counted: bool,
 }
 
 impl Floquet {
@@ -194,10 +204,14 @@ impl Hill {
 
     /// The full analysis on the current projections.
     fn full(&mut self, params: &[f64], omega: f64, opts: &StabilityOptions) -> Result<Floquet> {
+        self.tr.sign_right = None;
         self.op.assemble_polynomial(params, omega, true);
         self.candidates(params, omega)?;
         let tie = 1e-12 * omega;
         let mut refined = true;
+        // The largest real part among the refined roots (not the frozen values of
+        // candidates that did not refine).
+        let mut top_refined = f64::NEG_INFINITY;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.sel.cands.len());
         self.sel.raw.clear();
         self.sel.replaced = false;
@@ -245,7 +259,8 @@ impl Hill {
                 let l = loop {
                     match self.refine(params, omega, cand, start.take(), opts.max_refine_iter) {
                         Some(l) if !self.sel.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
-                            break l
+                            top_refined = top_refined.max(l.re);
+                            break l;
                         }
                         Some(_) if spare < self.sel.spare.len() => {
                             cand = self.sel.spare[spare];
@@ -263,11 +278,89 @@ impl Hill {
                 push_central(&mut exps, l, omega);
             }
             self.sel.cands = cands;
+            if !refined && top_refined <= opts.tol * omega {
+                return self.counted(params, omega, opts, exps);
+            }
+            if refined {
+                let hi = count::right_edge(&self.sel.found(), omega);
+                if let Some(r) =
+                    self.missed_real_root(params, omega, opts.tol * omega, hi, &exps)?
+                {
+                    let r = Complex64::new(r, 0.0);
+                    self.sel.raw.push(r);
+                    exps.push(r);
+                    // Not a selection to track from: the root has no frozen candidate.
+                    self.sel.replaced = true;
+                }
+            }
         } else {
             self.sel.raw.extend(self.sel.cands.iter().filter(|c| c.im >= -tie));
             exps.extend(self.sel.cands.iter().map(|&c| fold_into_strip(c, omega)));
         }
         Ok(floquet(exps, omega, opts, refined))
+    }
+
+    /// The verdict where a fractional candidate did not refine and no refined root is
+    /// unstable: the frozen value in `exps` is no root, so the number of unstable
+    /// roots of `det T` decides (`count`; the exact polynomial part is assembled), in
+    /// a strip placed away from every exponent found.
+    fn counted(
+        &mut self,
+        params: &[f64],
+        omega: f64,
+        opts: &StabilityOptions,
+        exps: Vec<Complex64>,
+    ) -> Result<Floquet> {
+        let found = self.sel.found();
+        let n =
+            self.count_unstable(params, omega, opts.tol, count::right_edge(&found, omega), &found)?;
+        let mut f = floquet(exps, omega, opts, false);
+        f.stable = n == 0;
+        f.counted = true;
+        Ok(f)
+    }
+
+    /// The number of roots of `T(λ)` with `Re λ > tol · Ω` in the central strip of
+    /// height Ω, counted by the argument principle on `det T(λ)` along the strip's
+    /// unstable half (no refinement, no selection of copies): the solution is unstable
+    /// iff it is not zero. An independent check of [`Hill::analyse`]'s verdict, at the
+    /// cost of a few hundred factorisations of `T`; the companion eigensolve only
+    /// places the contour (its right edge beyond every eigenvalue, its horizontal edges
+    /// away from them). Fails with the reason if the winding is not resolved (a root on
+    /// the contour).
+    ///
+    /// ```
+    /// use ihbm::balance::Balance;
+    /// use ihbm::models::Duffing;
+    /// use ihbm::stability::{Hill, StabilityOptions};
+    ///
+    /// // x'' + c x' + x = 0 at rest: the exponents -c/2 ± i·sqrt(1 - c²/4) are both
+    /// // in the strip |Im λ| < Ω/2 for Ω = 3, and unstable iff c < 0.
+    /// let opts = StabilityOptions::default();
+    /// for (c, unstable) in [(0.1, 0), (-0.1, 2)] {
+    ///     let model = Duffing { m: 1.0, c, k: 1.0, k3: 0.0, F: 0.0 };
+    ///     let mut bal = Balance::new(&model, 2).unwrap();
+    ///     let mut hill = Hill::new(&model, 2).unwrap();
+    ///     let rest = vec![0.0; 5];
+    ///     assert_eq!(hill.unstable_roots(&mut bal, &rest, 3.0, &opts).unwrap(), unstable);
+    /// }
+    /// ```
+    pub fn unstable_roots<M: Model>(
+        &mut self,
+        bal: &mut Balance<'_, M>,
+        coeffs: &[f64],
+        omega: f64,
+        opts: &StabilityOptions,
+    ) -> Result<usize> {
+        self.project(bal, coeffs, omega)?;
+        let params = bal.params();
+        self.op.assemble_polynomial(params, omega, true);
+        self.candidates(params, omega)?;
+        self.sel.raw.clear();
+        let known = self.sel.found();
+        self.op.assemble_polynomial(params, omega, false);
+        let right = count::right_edge(&known, omega);
+        self.count_unstable(params, omega, opts.tol, right, &known)
     }
 
     /// Like [`Hill::analyse`], but along a curve: the selected exponents of the
@@ -295,8 +388,15 @@ impl Hill {
         }
         if let Some(st) = self.tr.state.take() {
             if let Some(f) = self.continue_state(params, omega, opts, st) {
-                self.tr.counts.tracked += 1;
-                return Ok(f);
+                // A real root that the tracked set lacks (one left the branch point
+                // λ = 0 of a fractional factor) sends the point to the full analysis.
+                let hi = count::right_edge(&f.exponents, omega);
+                if !self.op.fractional
+                    || self.real_parity_agrees(params, omega, opts.tol * omega, hi, &f.exponents)
+                {
+                    self.tr.counts.tracked += 1;
+                    return Ok(f);
+                }
             }
         }
         self.tr.counts.full += 1;

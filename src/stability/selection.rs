@@ -29,6 +29,12 @@ pub(super) struct Selection {
 }
 
 impl Selection {
+    /// Every exponent the last analysis saw: refined roots, kept candidates, spares
+    /// (what places the counting contour, `count`).
+    pub(super) fn found(&self) -> Vec<Complex64> {
+        self.raw.iter().chain(&self.cands).chain(&self.spare).copied().collect()
+    }
+
     /// The frozen eigenvector (unit norm) of kept candidate `i`, or of spare
     /// `i - count` beyond the kept ones, if the eigensolve gave the vectors (the
     /// companion's, not the pencil's).

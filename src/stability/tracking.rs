@@ -272,6 +272,10 @@ pub(super) struct Tracker {
     /// doubted, kept for the full analysis there to confirm (see [`Hill::track`]).
     pub(super) unconfirmed: Option<TrackState>,
     pub(super) counts: TrackCounts,
+    /// The sign of `det T` on the real axis beyond every root (`true` positive), from
+    /// the last full analysis: a tracked point's real-root check needs only the other
+    /// end (see [`Hill::real_parity_agrees`]).
+    pub(super) sign_right: Option<bool>,
 }
 
 /// Tracked exponents of the last point.

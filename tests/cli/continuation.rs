@@ -416,7 +416,7 @@ fn study_sweep_tables_take_the_same_settings_and_checks() {
     }
 }
 
-/// Verdicts that rest on an unrefined fractional exponent are counted and announced,
+/// Points with an unrefined fractional exponent (verdict counted) are announced,
 /// as many as the library's own analysis of the same points finds unrefined; a curve
 /// without any says nothing.
 #[test]

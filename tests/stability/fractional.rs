@@ -68,3 +68,40 @@ fn negative_damping_is_unstable() {
     assert!(!f.stable);
     assert!((f.max_real - expected.re).abs() < 1e-9, "{:?} vs {expected}", f.exponents);
 }
+
+/// The count of unstable roots by the argument principle ([`Hill::unstable_roots`])
+/// against the characteristic roots of the linear fractional oscillator, found by the
+/// scalar Newton above: `λ² + cλ + 0.3 λ^0.5 + k` has for `k = 1` no positive real
+/// root (every term is positive at `c = 0.05`; at `c = -0.6` the sum stays above 0.9)
+/// and a complex pair whose real part decides, and for `k = -1` exactly one positive
+/// real root (the function increases from -1) with the other real one on the branch
+/// cut. With Ω = 4 the pair lies inside the strip `|Im λ| < Ω/2`.
+#[test]
+fn counted_unstable_roots_are_the_characteristic_ones() {
+    let (h, p, omega, n) = (0.3, 0.5, 4.0, 3);
+    for (c, k) in [(0.05, 1.0), (-0.6, 1.0), (0.05, -1.0)] {
+        let expected = if k > 0.0 {
+            let pair = root(1.0, c, k, h, p, Complex64::new(0.0, 1.0));
+            assert!(pair.im.abs() > 0.1 && pair.im.abs() < omega / 2.0, "{pair}");
+            if pair.re > 0.0 {
+                2
+            } else {
+                0
+            }
+        } else {
+            let r = root(1.0, c, k, h, p, Complex64::new(1.0, 0.0));
+            assert!(r.re > 0.0 && r.im.abs() < 1e-12, "{r}");
+            1
+        };
+        let model = FractionalDuffing { m: 1.0, c, k, k3: 0.0, h, p, F: 0.1 };
+        let sol = solve(&model, omega, &SolveOptions { harmonics: n, ..Default::default() }, None)
+            .unwrap();
+        let mut bal = Balance::new(&model, n).unwrap();
+        let mut hill = Hill::new(&model, n).unwrap();
+        let so = StabilityOptions::default();
+        let count = hill.unstable_roots(&mut bal, &sol.coeffs, omega, &so).unwrap();
+        assert_eq!(count, expected, "c = {c}, k = {k}");
+        let f = hill.analyse(&mut bal, &sol.coeffs, omega, &so).unwrap();
+        assert_eq!(f.stable, expected == 0, "c = {c}, k = {k}: {f:?}");
+    }
+}

@@ -209,6 +209,42 @@ fn chain5_fractional_tracking_agrees_with_full_analyses() {
     );
 }
 
+/// Fractional orders, by another method: at every point of the curve the verdict is
+/// whether `det T(λ)` has roots in the unstable half of the central strip, counted by
+/// the argument principle (no eigensolve, no refinement, no choice of copies). Past the
+/// folds of the resonance the real exponent that crossed zero is small and positive
+/// (about 1e-3 to 1e-2, left of the branch point of `λ^p`): the analysis must find it
+/// on the middle branch, and the verdict may change only at a fold there.
+#[test]
+fn chain5_fractional_verdicts_are_the_root_count() {
+    let model = Chain5::default();
+    let nh = 5;
+    let opts = SweepOptions { harmonics: nh, ..Default::default() };
+    let curve = sweep(&model, 0.05, 2.5, &opts).unwrap();
+    let so = StabilityOptions::default();
+    let mut bal = Balance::new(&model, nh).unwrap();
+    let mut hill = Hill::new(&model, nh).unwrap();
+    let mut counted_unstable = 0;
+    for p in &curve.points {
+        let Some(stable) = p.stability.verdict() else { continue };
+        let n = hill.unstable_roots(&mut bal, &p.coeffs, p.omega, &so).unwrap();
+        assert_eq!(stable, n == 0, "Ω = {}: verdict {stable}, {n} unstable roots", p.omega);
+        counted_unstable += usize::from(n > 0);
+    }
+    assert!(counted_unstable > 0, "the middle branches are unstable");
+    // In the primary resonance (Ω < 0.4) every change of verdict is at a fold.
+    for (i, w) in curve.points.windows(2).enumerate() {
+        let (a, b) = (w[0].stability.verdict(), w[1].stability.verdict());
+        if w[1].omega < 0.4 && a.is_some() && b.is_some() && a != b {
+            assert!(
+                curve.folds.iter().any(|f| f.after == i),
+                "a change at Ω = {} off a fold",
+                w[0].omega
+            );
+        }
+    }
+}
+
 /// Integer orders: where the correction rule doubts a tracked set whose exponents
 /// still stand for as many distinct families of copies, tracking goes on without a
 /// full analysis (about a dozen points of this curve, in its multi-fold resonance).
