@@ -16,8 +16,12 @@ use crate::error::HillFailure;
 use std::f64::consts::PI;
 
 /// The largest change of `arg det T` accepted between neighbouring contour points; a
-/// larger one halves the step. Far below π, the limit beyond which a turn could be
-/// mistaken for one the other way.
+/// larger one halves the step. Well below π, the limit beyond which a turn could be
+/// mistaken for one the other way, and small enough that a root close to the contour
+/// is not stepped past: at π/4 the count of the 5-mass chain at 0.577 rad/s was 1
+/// where the verdict (and the count at π/8) is 0. A count there takes about 500
+/// factorisations (264 at π/4): the lightly damped exponents lie close to the left
+/// edge, each a quick turn.
 pub(super) const MAX_TURN: f64 = PI / 8.0;
 
 /// Evaluations of `det T` a count may take (each a factorisation of `T`) before it
