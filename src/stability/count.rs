@@ -145,11 +145,7 @@ impl Hill {
     ) -> Result<Option<f64>> {
         let fail = |why: String| failure(omega, why);
         let singular = |x: f64| fail(format!("T is singular at the real λ = {x:e}"));
-        let reals: Vec<f64> = exps
-            .iter()
-            .filter(|l| real(**l, omega) && l.re > lo && l.re < hi)
-            .map(|l| l.re)
-            .collect();
+        let reals = real_between(exps, omega, lo, hi);
         let s_lo = self.det_sign(params, omega, lo).ok_or_else(|| singular(lo))?;
         let s_hi = self.det_sign(params, omega, hi).ok_or_else(|| singular(hi))?;
         self.tr.sign_right = Some(s_hi);
@@ -201,8 +197,7 @@ impl Hill {
         hi: f64,
         exps: &[Complex64],
     ) -> bool {
-        let odd =
-            exps.iter().filter(|l| real(**l, omega) && l.re > lo && l.re < hi).count() % 2 == 1;
+        let odd = real_between(exps, omega, lo, hi).len() % 2 == 1;
         let right = match self.tr.sign_right {
             Some(s) => Some(s),
             None => self.det_sign(params, omega, hi),
@@ -235,6 +230,11 @@ impl Hill {
         }
         Some(l)
     }
+}
+
+/// The real exponents among `exps` (folded) in `(lo, hi)`.
+fn real_between(exps: &[Complex64], omega: f64, lo: f64, hi: f64) -> Vec<f64> {
+    exps.iter().filter(|l| real(**l, omega) && l.re > lo && l.re < hi).map(|l| l.re).collect()
 }
 
 /// A count that failed at `omega`, and why.
