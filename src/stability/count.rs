@@ -44,19 +44,19 @@ const EDGE_STEPS: usize = 16;
 
 impl Hill {
     /// The number of roots of the exact `T(λ)` (assembled: [`Operator::assemble_polynomial`]
-    /// with `frozen = false`) with `tol·Ω < Re λ < right` in a strip of height Ω
-    /// placed away from the exponents `known` (folded or not) whose real parts are
-    /// near or above the threshold. Fails with the reason if the winding is not
+    /// with `frozen = false`) with `Re λ > tol·Ω` in a strip of height Ω placed away
+    /// from the exponents `known` (folded or not) whose real parts are near or above
+    /// the threshold, up to their [`right_edge`]. Fails with the reason if the winding is not
     /// resolved within [`MAX_EVALS`] factorisations or is not close to an integer.
     pub(super) fn count_unstable(
         &mut self,
         params: &[f64],
         omega: f64,
         tol: f64,
-        right: f64,
         known: &[Complex64],
     ) -> Result<usize> {
         let left = tol * omega;
+        let right = right_edge(known, omega);
         let fail = |why: String| failure(omega, why);
         if !(right > left && right.is_finite()) {
             return Err(fail(format!("no contour: right edge {right:e} ≤ left edge {left:e}")));
@@ -67,12 +67,7 @@ impl Hill {
 
     /// The number of roots of `T(λ)` inside the rectangle `[re₀, re₁] × [im₀, im₁]`
     /// (`rect`), by the winding of `det T` along its edges.
-    pub(super) fn roots_inside(
-        &mut self,
-        params: &[f64],
-        omega: f64,
-        rect: [f64; 4],
-    ) -> Result<usize> {
+    fn roots_inside(&mut self, params: &[f64], omega: f64, rect: [f64; 4]) -> Result<usize> {
         let fail = |why: String| failure(omega, why);
         let [left, right, y0, y1] = rect;
         let corners = [
@@ -198,10 +193,7 @@ impl Hill {
         exps: &[Complex64],
     ) -> bool {
         let odd = real_between(exps, omega, lo, hi).len() % 2 == 1;
-        let right = match self.tr.sign_right {
-            Some(s) => Some(s),
-            None => self.det_sign(params, omega, hi),
-        };
+        let right = self.tr.sign_right.or_else(|| self.det_sign(params, omega, hi));
         let Some(right) = right else { return false };
         self.tr.sign_right = Some(right);
         self.det_sign(params, omega, lo).is_some_and(|left| (left != right) == odd)
@@ -211,6 +203,7 @@ impl Hill {
     fn det_sign(&mut self, params: &[f64], omega: f64, x: f64) -> Option<bool> {
         Some(self.log_det(params, omega, Complex64::new(x, 0.0))?.im.cos() > 0.0)
     }
+
     /// `log det T(λ)` (its imaginary part is `arg det` modulo 2π), from an LU of `T(λ)`;
     /// `None` if a pivot is zero or not finite.
     fn log_det(&mut self, params: &[f64], omega: f64, lambda: Complex64) -> Option<Complex64> {

@@ -311,9 +311,7 @@ impl Hill {
         opts: &StabilityOptions,
         exps: Vec<Complex64>,
     ) -> Result<Floquet> {
-        let found = self.sel.found();
-        let n =
-            self.count_unstable(params, omega, opts.tol, count::right_edge(&found, omega), &found)?;
+        let n = self.count_unstable(params, omega, opts.tol, &self.sel.found())?;
         let mut f = floquet(exps, omega, opts, false);
         f.stable = n == 0;
         f.counted = true;
@@ -359,8 +357,7 @@ impl Hill {
         self.sel.raw.clear();
         let known = self.sel.found();
         self.op.assemble_polynomial(params, omega, false);
-        let right = count::right_edge(&known, omega);
-        self.count_unstable(params, omega, opts.tol, right, &known)
+        self.count_unstable(params, omega, opts.tol, &known)
     }
 
     /// Like [`Hill::analyse`], but along a curve: the selected exponents of the
