@@ -213,7 +213,7 @@ fn chain5_fractional_tracking_agrees_with_full_analyses() {
 /// whether `det T(λ)` has roots in the unstable half of the central strip, counted by
 /// the argument principle (no eigensolve, no refinement, no choice of copies). Past the
 /// folds of the resonance the real exponent that crossed zero is small and positive
-/// (about 1e-3 to 1e-2, left of the branch point of `λ^p`): the analysis must find it
+/// (about 1e-3 to 1e-2, right of the branch point of `λ^p`): the analysis must find it
 /// on the middle branch, and the verdict may change only at a fold there.
 #[test]
 fn chain5_fractional_verdicts_are_the_root_count() {
