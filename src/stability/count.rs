@@ -66,24 +66,44 @@ impl Hill {
     }
 
     /// The number of roots of `T(λ)` inside the rectangle `[re₀, re₁] × [im₀, im₁]`
-    /// (`rect`), by the winding of `det T` along its edges.
+    /// (`rect`), by the winding of `det T` along its edges. A rectangle symmetric about
+    /// the real axis is walked along its upper half only: `T(λ̄)` is the conjugate of
+    /// `T(λ)` (a real model in the real basis), so `arg det T` turns along the lower half
+    /// as along the upper, and the half's turn from the real axis back to it (where
+    /// `det T` is real) is half the winding, at half the factorisations.
     fn roots_inside(&mut self, params: &[f64], omega: f64, rect: [f64; 4]) -> Result<usize> {
-        let fail = |why: String| failure(omega, why);
         let [left, right, y0, y1] = rect;
-        let corners = [
-            Complex64::new(left, y0),
-            Complex64::new(right, y0),
-            Complex64::new(right, y1),
-            Complex64::new(left, y1),
-        ];
+        let c = Complex64::new;
+        let (turn, halves) = if y0 == -y1 {
+            let path = [c(right, 0.0), c(right, y1), c(left, y1), c(left, 0.0)];
+            (self.turn_along(params, omega, &path)?, 2.0)
+        } else {
+            let path = [c(left, y0), c(right, y0), c(right, y1), c(left, y1), c(left, y0)];
+            (self.turn_along(params, omega, &path)?, 1.0)
+        };
+        let winding = halves * turn / (2.0 * PI);
+        let count = winding.round();
+        if (winding - count).abs() > 0.25 || count < 0.0 {
+            return Err(failure(
+                omega,
+                format!("the winding of det T is {winding:.3}, not a count"),
+            ));
+        }
+        Ok(count as usize)
+    }
+
+    /// The turn of `arg det T` along the polyline through `path`, each segment walked
+    /// in fractions of its length (at most `1/EDGE_STEPS`), a step that turns by more
+    /// than [`MAX_TURN`] halved.
+    fn turn_along(&mut self, params: &[f64], omega: f64, path: &[Complex64]) -> Result<f64> {
+        let fail = |why: String| failure(omega, why);
         let mut evals = 0;
         let mut turn = 0.0;
         let mut cur = self
-            .log_det(params, omega, corners[0])
-            .ok_or_else(|| fail(format!("T is singular at the contour's corner {}", corners[0])))?;
-        for e in 0..4 {
-            let (a, b) = (corners[e], corners[(e + 1) % 4]);
-            // Walk from a to b in fractions of the edge, halving a step that turns too far.
+            .log_det(params, omega, path[0])
+            .ok_or_else(|| fail(format!("T is singular at the contour's corner {}", path[0])))?;
+        for e in path.windows(2) {
+            let (a, b) = (e[0], e[1]);
             let (mut s, mut h) = (0.0, 1.0 / EDGE_STEPS as f64);
             while s < 1.0 {
                 let t = (s + h).min(1.0);
@@ -110,12 +130,7 @@ impl Hill {
                 h = (2.0 * h).min(1.0 / EDGE_STEPS as f64);
             }
         }
-        let winding = turn / (2.0 * PI);
-        let count = winding.round();
-        if (winding - count).abs() > 0.25 || count < 0.0 {
-            return Err(fail(format!("the winding of det T is {winding:.3}, not a count")));
-        }
-        Ok(count as usize)
+        Ok(turn)
     }
 
     /// A real root of `det T` in `(lo, hi)` that `exps` (folded) lacks, where the
@@ -248,12 +263,13 @@ fn wrap(a: f64) -> f64 {
 /// Placements of the counting strip either side of the central one, up to `Ω/8`.
 const SHIFTS: i32 = 4;
 
-/// The bottom of the counting strip: of `-Ω/2 + jΩ/32` (`|j| ≤ 4`), the one farthest
-/// (modulo Ω) from the imaginary parts of the exponents in `known` whose real part is
-/// above `left - Ω/4` (the others are far from the contour's horizontal edges). Near
-/// the central one: truncation makes the copies of an exponent inexact, the more so
-/// the farther from the centre, and a strip reaching a branch point `±iΩ` counts the
-/// roots near it, which have no centred counterpart.
+/// The bottom of the counting strip: `-Ω/2`, the strip symmetric about the real axis
+/// (half the contour, see [`Hill::roots_inside`]), unless an exponent in `known` whose
+/// real part is above `left - Ω/4` lies within `Ω/32` of its edges (modulo Ω; the
+/// others are far from the edges); then of `-Ω/2 + jΩ/32` (`|j| ≤ 4`), the one
+/// farthest from them. Near the central one: truncation makes the copies of an exponent
+/// inexact, the more so the farther from the centre, and a strip reaching a branch
+/// point `±iΩ` counts the roots near it, which have no centred counterpart.
 fn strip_bottom(known: &[Complex64], left: f64, omega: f64) -> f64 {
     let near: Vec<f64> =
         known.iter().filter(|l| l.re > left - 0.25 * omega).map(|l| l.im).collect();
@@ -262,8 +278,12 @@ fn strip_bottom(known: &[Complex64], left: f64, omega: f64) -> f64 {
             .map(|&im| fold_into_strip(Complex64::new(0.0, im - y), omega).im.abs())
             .fold(f64::INFINITY, f64::min)
     };
+    let spacing = omega / (8 * SHIFTS) as f64;
+    if gap(-0.5 * omega) >= spacing {
+        return -0.5 * omega;
+    }
     (-SHIFTS..=SHIFTS)
-        .map(|j| -0.5 * omega + j as f64 * omega / (8 * SHIFTS) as f64)
+        .map(|j| -0.5 * omega + j as f64 * spacing)
         .max_by(|&a, &b| gap(a).total_cmp(&gap(b)))
         .unwrap_or(-0.5 * omega)
 }
@@ -279,6 +299,49 @@ mod tests {
         assert!((wrap(2.0 * PI + 0.25) - 0.25).abs() < 1e-12);
     }
 
+    /// A Hill workspace holding the exact `T` of the fractional oscillator
+    /// `x'' + c x' + 0.3 D^0.5 x + k x` (3 harmonics; linear, so the state does not matter).
+    fn prepared(c: f64, k: f64, omega: f64) -> (Hill, Vec<f64>) {
+        use crate::models::FractionalDuffing;
+        let model = FractionalDuffing { m: 1.0, c, k, k3: 0.0, h: 0.3, p: 0.5, F: 0.1 };
+        let mut bal = Balance::new(&model, 3).unwrap();
+        let mut hill = Hill::new(&model, 3).unwrap();
+        let coeffs = [0.2, 0.5, -0.1, 0.05, 0.3, 0.02, -0.04];
+        hill.prepare_operator(&mut bal, &coeffs, omega).unwrap();
+        let params = bal.params().to_vec();
+        (hill, params)
+    }
+
+    #[test]
+    fn det_t_of_the_conjugate_is_the_conjugate() {
+        let omega = 2.0;
+        let (mut hill, params) = prepared(0.05, 1.0, omega);
+        for z in [Complex64::new(0.3, 0.7), Complex64::new(1e-3, -0.9), Complex64::new(2.0, 0.1)] {
+            let (a, b) = (
+                hill.log_det(&params, omega, z).unwrap(),
+                hill.log_det(&params, omega, z.conj()).unwrap(),
+            );
+            assert!((a.re - b.re).abs() < 1e-12 * a.re.abs().max(1.0), "{a} vs {b}");
+            assert!(wrap(a.im + b.im).abs() < 1e-10, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn the_half_contour_counts_what_the_whole_rectangle_counts() {
+        // Stable (0), a growing complex pair (2), a growing real root (1): the
+        // symmetric strip walked along its upper half, and the same strip moved off
+        // symmetry by 1e-9·Ω (walked whole), count alike.
+        let omega = 4.0;
+        for (c, k, expected) in [(0.05, 1.0, 0), (-0.6, 1.0, 2), (0.05, -1.0, 1)] {
+            let (mut hill, params) = prepared(c, k, omega);
+            let (left, right, y) = (1e-7 * omega, 3.0 * omega, 0.5 * omega);
+            let half = hill.roots_inside(&params, omega, [left, right, -y, y]).unwrap();
+            let off = [left, right, -y * (1.0 + 1e-9), y * (1.0 - 1e-9)];
+            let whole = hill.roots_inside(&params, omega, off).unwrap();
+            assert_eq!((half, whole), (expected, expected), "c = {c}, k = {k}");
+        }
+    }
+
     #[test]
     fn the_strip_avoids_the_exponents_near_the_threshold() {
         let omega = 1.0;
@@ -287,5 +350,10 @@ mod tests {
         let known = [Complex64::new(0.1, 0.5), Complex64::new(-5.0, 0.25)];
         let y = strip_bottom(&known, 0.0, omega);
         assert!(((y + 0.5).abs() - 0.125).abs() < 1e-12, "{y}");
+        // Exponents well inside: the symmetric strip, exactly (its top is its bottom
+        // negated, which selects the half contour).
+        let known = [Complex64::new(0.1, 0.4), Complex64::new(-0.01, -0.2)];
+        let y = strip_bottom(&known, 0.0, omega);
+        assert!(y == -0.5 * omega && y + omega == -y, "{y}");
     }
 }
