@@ -132,5 +132,43 @@ fn factorisations(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, chains, factorisations);
+/// One complex LU of `T(λ)` at the Hill sizes of the table (`m` = DOFs × (2N + 1)):
+/// the least a point's stability costs, tracked or not, against which the curve's own
+/// cost per point is set in the book's performance chapter (*The 2× goal*).
+fn hill_lu(c: &mut Criterion) {
+    use ihbm::linalg::complex_lu_factor;
+    use num_complex::Complex64;
+    let mut g = c.benchmark_group("hill_lu");
+    g.sample_size(20);
+    for (name, m) in [
+        ("quarter_car_N5", 22),
+        ("chain2_N5", 22),
+        ("chain2_N11", 46),
+        ("chain5_N5", 55),
+        ("chain5_N11", 115),
+        ("chain10_N5", 110),
+        ("chain10_N11", 230),
+        ("chain20_N5", 220),
+        ("chain20_N11", 460),
+    ] {
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut rand = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        };
+        let a: Vec<Complex64> = (0..m * m).map(|_| Complex64::new(rand(), rand())).collect();
+        let (mut work, mut piv) = (a.clone(), vec![0; m]);
+        g.bench_function(format!("{name}_m{m}"), |b| {
+            b.iter(|| {
+                work.copy_from_slice(&a);
+                black_box(complex_lu_factor(&mut work, m, &mut piv, 0.0))
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, chains, factorisations, hill_lu);
 criterion_main!(benches);
