@@ -88,6 +88,16 @@ fn chains(c: &mut Criterion) {
     case(c, "chain40", &Chain40::default(), span, 11, false);
 }
 
+/// Pseudo-random numbers in [-1, 1) (xorshift from `seed`): matrix entries.
+fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
 /// The bordered LU of continuation on a chain's block-tridiagonal Jacobian: band
 /// storage and block elimination against the dense factorisation, at the sizes the
 /// choice between them (`linalg::BorderedLu`) is made for: `(blocks, block size)`.
@@ -102,13 +112,7 @@ fn factorisations(c: &mut Criterion) {
             [("band", BorderedLu::new(na, 1, Some(band))), ("dense", BorderedLu::new(na, 1, None))]
         {
             let mut lu = lu;
-            let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-            let mut rand = move || {
-                seed ^= seed << 13;
-                seed ^= seed >> 7;
-                seed ^= seed << 17;
-                (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-            };
+            let mut rand = uniform(0x2545_f491_4f6c_dd1d);
             let name = format!("{kind}_{na}_kl{}", band.0);
             g.bench_function(name, |b| {
                 b.iter(|| {
@@ -151,13 +155,7 @@ fn hill_lu(c: &mut Criterion) {
         ("chain20_N5", 220),
         ("chain20_N11", 460),
     ] {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut rand = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        };
+        let mut rand = uniform(0x9e37_79b9_7f4a_7c15);
         let a: Vec<Complex64> = (0..m * m).map(|_| Complex64::new(rand(), rand())).collect();
         let (mut work, mut piv) = (a.clone(), vec![0; m]);
         g.bench_function(format!("{name}_m{m}"), |b| {
