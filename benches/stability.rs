@@ -138,22 +138,24 @@ fn factorisations(c: &mut Criterion) {
 
 /// One complex LU of `T(λ)` at the Hill sizes of the table (`m` = DOFs × (2N + 1)):
 /// the least a point's stability costs, tracked or not, against which the curve's own
-/// cost per point is set in the book's performance chapter (*The 2× goal*).
+/// cost per point is set in the book's performance chapter (*The 2× goal*). Dense, and
+/// for the chains also within the band of their block-tridiagonal `T` (as
+/// `Hill` factorises it).
 fn hill_lu(c: &mut Criterion) {
-    use ihbm::linalg::complex_lu_factor;
+    use ihbm::linalg::{complex_band_lu_factor, complex_lu_factor};
     use num_complex::Complex64;
     let mut g = c.benchmark_group("hill_lu");
     g.sample_size(20);
-    for (name, m) in [
-        ("quarter_car_N5", 22),
-        ("chain2_N5", 22),
-        ("chain2_N11", 46),
-        ("chain5_N5", 55),
-        ("chain5_N11", 115),
-        ("chain10_N5", 110),
-        ("chain10_N11", 230),
-        ("chain20_N5", 220),
-        ("chain20_N11", 460),
+    for (name, m, len) in [
+        ("quarter_car_N5", 22, 0),
+        ("chain2_N5", 22, 11),
+        ("chain2_N11", 46, 23),
+        ("chain5_N5", 55, 11),
+        ("chain5_N11", 115, 23),
+        ("chain10_N5", 110, 11),
+        ("chain10_N11", 230, 23),
+        ("chain20_N5", 220, 11),
+        ("chain20_N11", 460, 23),
     ] {
         let mut rand = uniform(0x9e37_79b9_7f4a_7c15);
         let a: Vec<Complex64> = (0..m * m).map(|_| Complex64::new(rand(), rand())).collect();
@@ -162,6 +164,29 @@ fn hill_lu(c: &mut Criterion) {
             b.iter(|| {
                 work.copy_from_slice(&a);
                 black_box(complex_lu_factor(&mut work, m, &mut piv, 0.0))
+            })
+        });
+        if len == 0 || 2 * len >= m {
+            continue; // no band narrower than the matrix
+        }
+        // Block-tridiagonal in blocks of `len`, zero elsewhere.
+        let banded: Vec<Complex64> = a
+            .iter()
+            .enumerate()
+            .map(|(k, &z)| {
+                let (i, j) = (k / m / len, k % m / len);
+                if i.abs_diff(j) <= 1 {
+                    z
+                } else {
+                    Complex64::new(0.0, 0.0)
+                }
+            })
+            .collect();
+        let band = (2 * len - 1, 2 * len - 1);
+        g.bench_function(format!("{name}_m{m}_band"), |b| {
+            b.iter(|| {
+                work.copy_from_slice(&banded);
+                black_box(complex_band_lu_factor(&mut work, m, band, &mut piv, 0.0))
             })
         });
     }

@@ -224,7 +224,7 @@ impl Hill {
     fn log_det(&mut self, params: &[f64], omega: f64, lambda: Complex64) -> Option<Complex64> {
         let m = self.op.m;
         self.op.eval_t(params, omega, lambda, true);
-        if complex_lu_factor(&mut self.op.t, m, &mut self.nw.piv, 0.0) != 0 {
+        if !self.op.factor_t(&mut self.nw.piv) {
             return None;
         }
         let swaps = (0..m).filter(|&k| self.nw.piv[k] != k).count();

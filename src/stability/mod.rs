@@ -31,7 +31,6 @@ use selection::*;
 
 use crate::balance::Balance;
 use crate::error::{Error, Result};
-use crate::linalg::{complex_lu_factor, complex_lu_solve, complex_lu_solve_adjoint};
 use crate::model::{Model, Order};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Mat, Par};

@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::error::HillFailure;
+use crate::linalg::{complex_band_lu_factor, complex_band_lu_solve, complex_band_lu_solve_adjoint};
 
 /// `T(λ)` at one solution and what it is made of: the projections of the signal
 /// gradients, the matrix polynomial of the integer orders, the fractional factors, and
@@ -45,6 +46,10 @@ pub(super) struct Operator {
     /// `T(λ)` of [`Operator::eval_t`], row-major (the nonlinear iteration factorises
     /// it in place).
     pub(super) t: Vec<Complex64>,
+    /// Diagonals of `T` below and above the main one that can be nonzero: those of
+    /// the balance Jacobian (`T(0)`), whose block pattern `T(λ)` shares (equation `e`
+    /// reads the signals of DOF `d` at every `λ`). A chain's is block-tridiagonal.
+    band: (usize, usize),
     /// `T(λ)v`, `T'(λ)v` of [`Operator::apply_t`], and its per-block scratch (`2·len`).
     pub(super) tv: Vec<Complex64>,
     pub(super) dtv: Vec<Complex64>,
@@ -87,6 +92,7 @@ impl Operator {
             alpha: vec![[zero; 4]; harmonics + 1],
             alpha_at: None,
             t: vec![zero; m * m],
+            band: (m.saturating_sub(1), m.saturating_sub(1)),
             tv: vec![zero; m],
             dtv: vec![zero; m],
             block: vec![zero; 2 * len],
@@ -146,6 +152,7 @@ impl Operator {
             });
         }
         bal.signal_gradients(coeffs, omega);
+        self.band = bal.jacobian_band();
         for e in 0..self.ndof {
             for j in 0..nsig {
                 let idx = e * nsig + j;
@@ -392,6 +399,24 @@ impl Operator {
                 }
             }
         }
+    }
+}
+
+impl Operator {
+    /// Factorise `self.t` in place within its band, pivots into `piv`; `false` on a
+    /// zero or non-finite pivot (the factors then do not solve).
+    pub(super) fn factor_t(&mut self, piv: &mut [usize]) -> bool {
+        complex_band_lu_factor(&mut self.t, self.m, self.band, piv, 0.0) == 0
+    }
+
+    /// `T x = b` in place with the factors of [`Operator::factor_t`].
+    pub(super) fn solve_t(&self, piv: &[usize], b: &mut [Complex64]) {
+        complex_band_lu_solve(&self.t, self.m, self.band.0 + self.band.1, piv, b);
+    }
+
+    /// `Tᴴ x = b` in place with the factors of [`Operator::factor_t`].
+    pub(super) fn solve_t_adjoint(&self, piv: &[usize], b: &mut [Complex64]) {
+        complex_band_lu_solve_adjoint(&self.t, self.m, self.band.0 + self.band.1, piv, b);
     }
 }
 

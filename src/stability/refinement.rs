@@ -32,9 +32,10 @@ impl Hill {
         self.op.eval_t(params, omega, l0, exact);
         let mut v: Vec<Complex64> =
             (0..self.op.m).map(|i| Complex64::new(1.0 + (i as f64 * 0.37).sin(), 0.0)).collect();
-        if !lu_solve(&mut self.op.t, self.op.m, &mut self.nw.piv, &mut v) {
+        if !self.op.factor_t(&mut self.nw.piv) {
             return None;
         }
+        self.op.solve_t(&self.nw.piv, &mut v);
         normalise(&mut v)?;
         Some(v)
     }
@@ -111,7 +112,6 @@ impl Hill {
         factored: bool,
         exact: bool,
     ) -> Option<(Complex64, Vec<Complex64>, usize)> {
-        let m = self.op.m;
         let u = v.clone();
         let mut lambda = l0;
         let scale = omega.max(l0.norm());
@@ -125,15 +125,10 @@ impl Hill {
             }
             self.op.apply_t(params, omega, lambda, exact, &v, false);
             self.nw.x.copy_from_slice(&self.op.dtv);
-            let solved = if reuse {
-                complex_lu_solve(&self.op.t, m, &self.nw.piv, &mut self.nw.x);
-                true
-            } else {
-                lu_solve(&mut self.op.t, m, &mut self.nw.piv, &mut self.nw.x)
-            };
-            if !solved {
+            if !reuse && !self.op.factor_t(&mut self.nw.piv) {
                 return None;
             }
+            self.op.solve_t(&self.nw.piv, &mut self.nw.x);
             let ux: Complex64 = u.iter().zip(&self.nw.x).map(|(a, b)| a.conj() * b).sum();
             let uv: Complex64 = u.iter().zip(&v).map(|(a, b)| a.conj() * b).sum();
             if ux.norm() == 0.0 || !ux.re.is_finite() || !ux.im.is_finite() {
@@ -156,7 +151,7 @@ impl Hill {
             // The Rayleigh step at the new λ: w from the factors of T(λ_k), T(λ)v and
             // T'(λ)v without assembling T(λ).
             self.nw.w.copy_from_slice(&u);
-            complex_lu_solve_adjoint(&self.op.t, m, &self.nw.piv, &mut self.nw.w);
+            self.op.solve_t_adjoint(&self.nw.piv, &mut self.nw.w);
             self.op.apply_t(params, omega, lambda, exact, &v, true);
             let wr: Complex64 = self.nw.w.iter().zip(&self.op.tv).map(|(a, b)| a.conj() * b).sum();
             let wd: Complex64 = self.nw.w.iter().zip(&self.op.dtv).map(|(a, b)| a.conj() * b).sum();
@@ -212,19 +207,4 @@ pub(super) fn normalise(v: &mut [Complex64]) -> Option<()> {
     }
     v.iter_mut().for_each(|z| *z /= n);
     Some(())
-}
-
-/// Factorise `a` (row-major `n × n`) in place and solve `A x = b` (`b` by `x`);
-/// `false` on a zero pivot.
-pub(super) fn lu_solve(
-    a: &mut [Complex64],
-    n: usize,
-    piv: &mut [usize],
-    b: &mut [Complex64],
-) -> bool {
-    if complex_lu_factor(a, n, piv, 0.0) != 0 {
-        return false;
-    }
-    complex_lu_solve(a, n, piv, b);
-    true
 }
