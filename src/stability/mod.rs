@@ -74,8 +74,11 @@ pub struct Floquet {
     pub max_real: f64,
     /// `true` iff no exponent has `Re λ > tol · Ω`.
     pub stable: bool,
-    /// `false` if some fractional candidate did not converge in the refinement (its
-    /// frozen-order value is reported). Always `true` for integer-order models.
+    /// `false` if some fractional candidate did not converge in the refinement: a full
+    /// analysis reports its frozen-order value; a point [`Hill::track`] continued from
+    /// such an analysis (a *partial set*) reports only the roots that did refine, and
+    /// its verdict is [`counted`](Floquet::counted) unless one of them is unstable.
+    /// Always `true` for integer-order models.
     pub refined: bool,
     /// The verdict `stable` comes from counting the roots of `det T(λ)` with
     /// `Re λ > tol · Ω` in the central strip (the argument principle), not from
@@ -213,6 +216,7 @@ impl Hill {
         let mut top_refined = f64::NEG_INFINITY;
         let mut exps: Vec<Complex64> = Vec::with_capacity(self.sel.cands.len());
         self.sel.raw.clear();
+        self.sel.unrefined.clear();
         self.sel.replaced = false;
         if self.op.fractional && opts.refine {
             // Each candidate's eigenvector of the frozen problem: a start that is
@@ -269,6 +273,7 @@ impl Hill {
                         }
                         _ => {
                             refined = false;
+                            self.sel.unrefined.push(self.sel.raw.len());
                             break c;
                         }
                     }
@@ -354,6 +359,7 @@ impl Hill {
         self.op.assemble_polynomial(params, omega, true);
         self.candidates(params, omega)?;
         self.sel.raw.clear();
+        self.sel.unrefined.clear();
         let known = self.sel.found();
         self.op.assemble_polynomial(params, omega, false);
         self.count_unstable(params, omega, opts.tol, &known)
@@ -382,17 +388,30 @@ impl Hill {
             self.tr.counts.full += 1;
             return self.full(params, omega, opts);
         }
-        if let Some(st) = self.tr.state.take() {
-            if let Some(f) = self.continue_state(params, omega, opts, st) {
-                // A real root that the tracked set lacks (one left the branch point
-                // λ = 0 of a fractional factor) sends the point to the full analysis.
-                let hi = count::right_edge(&f.exponents, omega);
-                if !self.op.fractional
-                    || self.real_parity_agrees(params, omega, opts.tol * omega, hi, &f.exponents)
-                {
-                    self.tr.counts.tracked += 1;
-                    return Ok(f);
-                }
+        // A partial set runs out after `PARTIAL_POINTS`: the full analysis finds out
+        // whether every candidate refines again.
+        if let Some(mut st) =
+            self.tr.state.take().filter(|st| st.partial.as_ref().is_none_or(|p| p.left > 0))
+        {
+            let f = match st.partial.take() {
+                Some(partial) => self.continue_partial(params, omega, opts, st, partial),
+                // A real root that the tracked set lacks (one left the branch point λ = 0
+                // of a fractional factor) sends the point to the full analysis.
+                None => self.continue_state(params, omega, opts, st).filter(|f| {
+                    let hi = count::right_edge(&f.exponents, omega);
+                    !self.op.fractional
+                        || self.real_parity_agrees(
+                            params,
+                            omega,
+                            opts.tol * omega,
+                            hi,
+                            &f.exponents,
+                        )
+                }),
+            };
+            if let Some(f) = f {
+                self.tr.counts.tracked += 1;
+                return Ok(f);
             }
         }
         self.tr.counts.full += 1;
@@ -404,11 +423,17 @@ impl Hill {
             // from the last point for the predictor (a start from the full analysis
             // has none, and an exponent moving steadily then fails the correction rule
             // at the next point again).
-            Ok(fl) if fl.refined => match doubted {
-                Some(st) if self.confirms(&st, omega) => self.tr.state = Some(st),
-                _ => self.start_state(params, omega),
-            },
-            _ => self.tr.state = None,
+            Ok(fl) if fl.refined => {
+                self.tr.partial_run = 0;
+                match doubted {
+                    Some(st) if self.confirms(&st, omega) => self.tr.state = Some(st),
+                    _ => self.start_state(params, omega),
+                }
+            }
+            // Some candidate did not refine: the next points track those that did and
+            // count the rest.
+            Ok(_) => self.start_partial_state(params, omega),
+            Err(_) => self.tr.state = None,
         }
         f
     }

@@ -26,6 +26,8 @@ pub(super) struct Selection {
     /// Exponents of the last full analysis, one per conjugate pair, not folded: the
     /// selected eigenvalues (integer orders) or their refined roots (fractional).
     pub(super) raw: Vec<Complex64>,
+    /// Indices in `raw` of the candidates that did not refine (their frozen values).
+    pub(super) unrefined: Vec<usize>,
 }
 
 impl Selection {
@@ -56,6 +58,7 @@ impl Selection {
             sources: Vec::with_capacity(big),
             replaced: false,
             raw: Vec::with_capacity(big),
+            unrefined: Vec::new(),
         }
     }
 }

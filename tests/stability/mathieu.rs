@@ -87,7 +87,7 @@ fn hill_exponents_match_monodromy_multipliers() {
 fn tracking_agrees_with_the_full_analysis_through_the_tongue() {
     let opts = SweepOptions { harmonics: 6, ..Default::default() };
     let curve = sweep(&MODEL, 1.5, 2.6, &opts).unwrap();
-    let k = stability_common::compare(&MODEL, &curve, 6);
+    let (k, _) = stability_common::compare(&MODEL, &curve, 6);
     eprintln!("mathieu: {} points, {k:?}", curve.points.len());
 }
 

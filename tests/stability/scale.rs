@@ -201,8 +201,9 @@ fn chain5_fractional_tracking_agrees_with_full_analyses() {
     let model = Chain5::default();
     let opts = SweepOptions { harmonics: 5, ..Default::default() };
     let curve = sweep(&model, 0.05, 2.5, &opts).unwrap();
-    let k = stability_common::compare(&model, &curve, 5);
+    let (k, partial) = stability_common::compare(&model, &curve, 5);
     assert_eq!(curve.stats.stability_full, k.full);
+    assert!(partial > 0, "no partial set tracked (the low-Ω stretch has them)");
     assert!(
         curve.points.iter().any(|p| !p.stability.is_stable()),
         "the middle branches are unstable"
@@ -253,8 +254,9 @@ fn chain5_integer_tracking_agrees_with_full_analyses() {
     let model = Chain5 { p: 1.0, ..Default::default() };
     let opts = SweepOptions { harmonics: 5, ..Default::default() };
     let curve = sweep(&model, 0.05, 2.5, &opts).unwrap();
-    let k = stability_common::compare(&model, &curve, 5);
+    let (k, partial) = stability_common::compare(&model, &curve, 5);
     assert_eq!(curve.stats.stability_full, k.full);
+    assert_eq!(partial, 0, "integer orders refine every candidate");
     assert!(curve.points.iter().any(|p| !p.stability.is_stable()));
 }
 

@@ -18,7 +18,7 @@ fn car_curve(k3: f64, f: f64, what: &str, check: impl Fn(&Curve)) -> TrackCounts
     let model = QuarterCar { k3, F: f, ..Default::default() };
     let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
     check(&c);
-    let k = compare(&model, &c, 5);
+    let (k, _) = compare(&model, &c, 5);
     // The sweep's own statistics count what this replay of its tracking counts.
     assert_eq!(c.stats.stability_full, k.full, "{what}: {:?}", c.stats);
     eprintln!("quarter car {what}: {} points, {k:?}", c.points.len());
@@ -64,7 +64,7 @@ fn duffing_hardening_n1_and_n5() {
         let o = SweepOptions { harmonics: n, ..Default::default() };
         let c = sweep(&model, 0.5, 2.5, &o).unwrap();
         assert_eq!(c.folds.len(), 2);
-        let k = compare(&model, &c, n);
+        let (k, _) = compare(&model, &c, n);
         eprintln!("duffing N = {n}: {} points, {k:?}", c.points.len());
     }
 }
@@ -75,7 +75,7 @@ fn fractional_duffing() {
     for n in [1, 3] {
         let o = SweepOptions { harmonics: n, ..Default::default() };
         let c = sweep(&model, 0.5, 2.5, &o).unwrap();
-        let k = compare(&model, &c, n);
+        let (k, _) = compare(&model, &c, n);
         eprintln!(
             "fractional duffing N = {n}: {} points, {} folds, {k:?}",
             c.points.len(),
