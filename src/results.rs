@@ -343,6 +343,35 @@ pub enum BifurcationKind {
     /// A complex pair of multipliers leaves the unit circle (Neimark–Sacker: a torus,
     /// quasi-periodic response).
     Torus,
+    /// The verdict changes, and the unstable side's was counted
+    /// ([`Floquet::counted`](crate::stability::Floquet::counted)): no exponent shows the
+    /// root that crossed, so which of the above it is is not known (nor is it located:
+    /// [`Bifurcation::located`] is `false`).
+    StabilityChange,
+}
+
+impl BifurcationKind {
+    /// The kind of a change of stability off a fold, from how the unstable side's
+    /// leading exponent lies ([`Floquet::leading_crossing`](crate::stability::Floquet::leading_crossing));
+    /// `None` where no exponent shows the root that crossed (a counted verdict):
+    /// [`BifurcationKind::StabilityChange`].
+    ///
+    /// ```
+    /// use ihbm::results::BifurcationKind;
+    /// use ihbm::stability::Crossing;
+    ///
+    /// assert_eq!(BifurcationKind::of_crossing(Some(Crossing::Real)), BifurcationKind::BranchPoint);
+    /// assert_eq!(BifurcationKind::of_crossing(None).to_string(), "stability-change");
+    /// ```
+    pub fn of_crossing(crossing: Option<crate::stability::Crossing>) -> BifurcationKind {
+        use crate::stability::Crossing;
+        match crossing {
+            Some(Crossing::Real) => BifurcationKind::BranchPoint,
+            Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
+            Some(Crossing::Torus) => BifurcationKind::Torus,
+            None => BifurcationKind::StabilityChange,
+        }
+    }
 }
 
 impl std::fmt::Display for BifurcationKind {
@@ -352,6 +381,7 @@ impl std::fmt::Display for BifurcationKind {
             BifurcationKind::BranchPoint => "branch-point",
             BifurcationKind::PeriodDoubling => "period-doubling",
             BifurcationKind::Torus => "torus",
+            BifurcationKind::StabilityChange => "stability-change",
         })
     }
 }

@@ -659,7 +659,8 @@ impl<'m, M: Model> Continuation<'m, M> {
                         // A counted verdict has no distance to the threshold.
                         node.growth =
                             if f.counted { f64::NAN } else { f.max_real - st.opts.tol * omega };
-                        node.crossing = f.leading_crossing(omega);
+                        // Nor an exponent that shows the root it counted.
+                        node.crossing = if f.counted { None } else { f.leading_crossing(omega) };
                         self.trace.stats.stability_unrefined += usize::from(!f.refined);
                         Stability::from_verdict(f.stable)
                     }
@@ -689,11 +690,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         }
         let (g0, g1) = (self.nodes[i].growth, self.nodes[i + 1].growth);
         let unstable = if sa { i + 1 } else { i };
-        let kind = match self.nodes[unstable].crossing {
-            Some(Crossing::Real) => BifurcationKind::BranchPoint,
-            Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
-            _ => BifurcationKind::Torus,
-        };
+        let kind = BifurcationKind::of_crossing(self.nodes[unstable].crossing);
         if !(g0.is_finite() && g1.is_finite()) {
             // A verdict counted rather than read off an exponent: nothing to bracket,
             // the change is reported where it was seen.
