@@ -181,7 +181,7 @@ impl Hill {
         self.tr.unconfirmed = None;
         let exact = self.op.fractional;
         self.op.assemble_polynomial(params, omega, !exact);
-        let ratio = st.step_ratio(omega);
+        let predicted = st.predictions(omega);
         let mut lambdas = Vec::with_capacity(st.lambdas.len());
         let mut vectors = Vec::with_capacity(st.lambdas.len());
         let mut preds = Vec::with_capacity(st.lambdas.len());
@@ -189,11 +189,8 @@ impl Hill {
         let mut before = st.lambdas.clone();
         // The correction rule fired for some exponent.
         let mut doubted = false;
-        for (i, (&l, v)) in st.lambdas.iter().zip(&st.vectors).enumerate() {
-            let pred = match &st.prev {
-                Some((_, p)) => l + (l - p[i]) * ratio,
-                None => l,
-            };
+        for (i, ((&l, v), &pred)) in st.lambdas.iter().zip(&st.vectors).zip(&predicted).enumerate()
+        {
             let Continued { l: ln, v: vn, pred, moved, centre } =
                 self.continue_one(params, omega, pred, v.clone())?;
             if centre.abs() > CENTRE_MAX {
@@ -287,15 +284,11 @@ impl Hill {
     ) -> Option<Floquet> {
         self.tr.unconfirmed = None;
         self.op.assemble_polynomial(params, omega, false);
-        let ratio = st.step_ratio(omega);
+        let predicted = st.predictions(omega);
         let mut lambdas: Vec<Complex64> = Vec::with_capacity(st.lambdas.len());
         let mut vectors = Vec::with_capacity(st.lambdas.len());
         let mut before = Vec::with_capacity(st.lambdas.len());
-        for (i, (&l, v)) in st.lambdas.iter().zip(&st.vectors).enumerate() {
-            let pred = match &st.prev {
-                Some((_, p)) => l + (l - p[i]) * ratio,
-                None => l,
-            };
+        for ((&l, v), &pred) in st.lambdas.iter().zip(&st.vectors).zip(&predicted) {
             let Some(c) = self.continue_one(params, omega, pred, v.clone()) else { continue };
             if c.centre.abs() > OFF_CENTRE_MAX
                 || lambdas.iter().any(|&k| same_exponent(k, c.l, omega))
@@ -337,16 +330,17 @@ struct Continued {
 }
 
 impl TrackState {
-    /// The linear predictor's step ratio to `omega`: this step over the last (clamped
-    /// to `[0, 2]`; 1 on the parameter axis, 0 without a last point).
-    fn step_ratio(&self, omega: f64) -> f64 {
-        match &self.prev {
-            Some((w0, _)) if (self.omega - w0).abs() > 0.0 && omega != self.omega => {
-                ((omega - self.omega) / (self.omega - w0)).clamp(0.0, 2.0)
-            }
-            Some(_) => 1.0,
-            None => 0.0,
-        }
+    /// The linear predictor of each exponent at `omega`: its last value plus its last
+    /// motion times the ratio of this step to the last (clamped to `[0, 2]`; 1 on the
+    /// parameter axis); the last value itself without a last point.
+    fn predictions(&self, omega: f64) -> Vec<Complex64> {
+        let Some((w0, p)) = &self.prev else { return self.lambdas.clone() };
+        let ratio = if (self.omega - w0).abs() > 0.0 && omega != self.omega {
+            ((omega - self.omega) / (self.omega - w0)).clamp(0.0, 2.0)
+        } else {
+            1.0
+        };
+        self.lambdas.iter().zip(p).map(|(&l, &q)| l + (l - q) * ratio).collect()
     }
 }
 

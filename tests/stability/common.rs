@@ -61,11 +61,9 @@ pub fn compare<M: Model>(model: &M, curve: &Curve, n: usize) -> (TrackCounts, us
         let e = &f.exponents;
         for a in 0..e.len() {
             for b in a + 1..e.len() {
-                let d = e[a] - e[b];
-                let im = d.im - (d.im / p.omega).round() * p.omega;
                 let conj_pair = (e[a] - e[b].conj()).norm() <= 1e-12 * p.omega;
                 assert!(
-                    conj_pair || d.re.hypot(im) > 1e-8 * p.omega,
+                    conj_pair || !same_modulo_omega(e[a], e[b], p.omega, 1e-8),
                     "point {i} Ω = {}: {} twice in {e:?}",
                     p.omega,
                     e[a]
