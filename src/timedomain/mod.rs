@@ -33,8 +33,10 @@
 //! quarter car's body motion at 60 rad/s it is 1.3e-7 at 20 s, 4e-8 at 40 s.
 //! [`simulate`] reports `drift` (relative change of `max_abs` between the last two
 //! blocks of 10 periods) so a user can see whether a run was long enough. Starting
-//! from the harmonic-balance state instead would not help: the Caputo history
-//! before `t = 0` would be missing and leave a slower `t^-p` tail.
+//! from the harmonic-balance state alone would not help: the Caputo history before
+//! `t = 0` would be missing and leave a slower `t^-p` tail. With that history added
+//! ([`Stepper::on_periodic`], [`PeriodicPast`]) a run starts on the periodic state
+//! with no transient: the way to watch a perturbation of a branch grow or decay.
 //!
 //! # Choosing dt and periods
 //!
@@ -58,13 +60,15 @@ pub mod budget;
 pub mod compare;
 pub mod memory;
 pub mod newmark;
+pub mod past;
 pub mod settling;
 pub mod steady;
 pub mod weights;
 
 pub use compare::{compare, compare_at, CompareOutput, CompareRow};
 pub use memory::{FastHistory, History, Memory, NaiveHistory};
-pub use newmark::{Stepper, StepperOptions};
+pub use newmark::{PeriodicStart, Stepper, StepperOptions};
+pub use past::PeriodicPast;
 pub use settling::StartUp;
 pub use steady::SteadyOutput;
 pub use weights::Scheme;

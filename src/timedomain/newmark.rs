@@ -18,7 +18,13 @@
 //! column `d` of the Jacobian `∂r/∂a_{n+1}` by the chain rule: no model derivative
 //! is written by hand.
 //!
-//! **Caputo from rest.** Integration starts at `t = 0` with `x = v = 0`. For
+//! **A start on a periodic solution** ([`Stepper::on_periodic`]): `x`, `v` at `t = 0`
+//! are the solution's (plus a chosen displacement), and every fractional signal's
+//! quadrature adds the part of its sum that lies before `t = 0`, the solution's own
+//! past ([`PeriodicPast`]): unperturbed, the run stays on the discrete scheme's
+//! periodic motion instead of starting a transient.
+//!
+//! **Caputo from rest** ([`Stepper::new`]). Integration starts at `t = 0` with `x = v = 0`. For
 //! `0 < q < 2` the Caputo derivative subtracts the Taylor polynomial of degree
 //! `⌈q⌉ - 1 ≤ 1` at 0, i.e. `e(0)` and `e'(0)` — both zero from rest — so Caputo and
 //! Riemann–Liouville derivatives coincide and the plain convolution quadrature of the
@@ -27,9 +33,11 @@
 //! accelerations vanishes (`D^q e(0) = 0` because `e ~ t²`).
 
 use super::memory::{History, Memory};
+use super::past::PeriodicPast;
 use super::weights::Scheme;
 use crate::error::Error;
-use crate::model::{combine, Model, Order};
+use crate::fourier::{apply_order, eval};
+use crate::model::{combine, combine_blocks, Model, Order};
 use num_dual::Dual64;
 
 /// Newmark average acceleration parameters.
@@ -82,7 +90,90 @@ impl StepperOptions {
     }
 }
 
-/// A time integrator for one model at one forcing frequency, started from rest.
+/// A periodic solution to start a run on ([`Stepper::on_periodic`]), moved at `t = 0`
+/// by `dx` and `dv`: the solution is taken to have run for all time before, so a
+/// perturbation's growth or decay is the solution's stability, with no start-up
+/// transient mixed in.
+///
+/// ```
+/// use ihbm::timedomain::PeriodicStart;
+/// // A harmonic-balance point's coefficients (here x = 0.1 cos Ωt, one DOF, N = 1),
+/// // displaced by 1e-4.
+/// let start = PeriodicStart { dx: vec![1e-4], ..PeriodicStart::new(vec![0.0, 0.1, 0.0], 1) };
+/// assert_eq!(start.displacements(2.0, 0.0), vec![0.1]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodicStart {
+    /// Fourier coefficients, `[a0, a1..aN, b1..bN]` per DOF, of `ω = Ω/period` (a
+    /// curve point's `coeffs`).
+    pub coeffs: Vec<f64>,
+    /// The number of harmonics N of `coeffs`.
+    pub harmonics: usize,
+    /// Forcing periods per period of the solution (1; 2 on a period-doubled branch).
+    pub period: usize,
+    /// Displacement added to each DOF at `t = 0` (empty: none).
+    pub dx: Vec<f64>,
+    /// Velocity added to each DOF at `t = 0` (empty: none).
+    pub dv: Vec<f64>,
+}
+
+impl PeriodicStart {
+    /// The solution `coeffs` with `harmonics` harmonics of the forcing frequency,
+    /// unperturbed.
+    pub fn new(coeffs: Vec<f64>, harmonics: usize) -> Self {
+        PeriodicStart { coeffs, harmonics, period: 1, dx: Vec::new(), dv: Vec::new() }
+    }
+
+    /// Each DOF's displacement on the periodic solution at time `t` (forcing
+    /// frequency `omega`): what a run started on it is measured against.
+    pub fn displacements(&self, omega: f64, t: f64) -> Vec<f64> {
+        let len = 2 * self.harmonics + 1;
+        let theta = omega / self.period.max(1) as f64 * t;
+        self.coeffs.chunks_exact(len).map(|b| eval(b, theta)).collect()
+    }
+
+    /// Refuse a start that does not fit `ndof` DOFs or is not finite.
+    fn check(&self, ndof: usize) -> Result<(), Error> {
+        let invalid = |what: &str, value: String, expected: String| Error::InvalidValue {
+            what: what.into(),
+            value,
+            expected,
+        };
+        let len = ndof * (2 * self.harmonics + 1);
+        if self.coeffs.len() != len {
+            return Err(invalid(
+                "periodic start coefficients",
+                format!("{} values", self.coeffs.len()),
+                format!("{len}: {ndof} DOFs × (2·{} + 1) harmonics coefficients", self.harmonics),
+            ));
+        }
+        if self.period == 0 {
+            return Err(invalid("periodic start period", "0".into(), "at least 1".into()));
+        }
+        for (what, v) in [("periodic start dx", &self.dx), ("periodic start dv", &self.dv)] {
+            if !v.is_empty() && v.len() != ndof {
+                return Err(invalid(
+                    what,
+                    format!("{} values", v.len()),
+                    format!("none, or one per DOF ({ndof})"),
+                ));
+            }
+        }
+        if let Some(bad) =
+            self.coeffs.iter().chain(&self.dx).chain(&self.dv).find(|v| !v.is_finite())
+        {
+            return Err(invalid(
+                "periodic start",
+                bad.to_string(),
+                "finite coefficients and displacements".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A time integrator for one model at one forcing frequency, started from rest
+/// ([`Stepper::new`]) or on a periodic solution ([`Stepper::on_periodic`]).
 ///
 /// ```
 /// use ihbm::models::FractionalDuffing;
@@ -107,6 +198,8 @@ pub struct Stepper<'m, M: Model> {
     a: Vec<f64>,
     kinds: Vec<Kind>,
     histories: Vec<History>,
+    /// Per history, the part of its sum before `t = 0` (a start on a periodic solution).
+    pasts: Vec<Option<PeriodicPast>>,
     /// Per signal: value at zero acceleration, and slope w.r.t. its combination of a.
     base: Vec<f64>,
     slope: Vec<f64>,
@@ -140,6 +233,50 @@ impl<'m, M: Model> Stepper<'m, M> {
     /// a fractional order outside `[0, 2]`, a non-finite or non-positive `dt`, or an
     /// initial acceleration that cannot be solved for.
     pub fn new(model: &'m M, omega: f64, opts: &StepperOptions) -> Result<Self, Error> {
+        Self::start(model, omega, opts, None)
+    }
+
+    /// Set up the integrator on the periodic solution `start` (moved by its `dx`,
+    /// `dv`), as if it had run for all time before `t = 0`, and solve for the
+    /// acceleration at `t = 0`. Unmoved, the run stays on the solution to the scheme's
+    /// consistency error (for a linear model on the scheme's own periodic motion,
+    /// exactly); moved, the distance grows at an unstable solution and fades at a
+    /// stable one.
+    ///
+    /// Errors: those of [`Stepper::new`], and a start whose coefficients do not fit
+    /// the model's DOFs and harmonics, or are not finite.
+    ///
+    /// ```
+    /// use ihbm::corrector::{solve, SolveOptions};
+    /// use ihbm::models::FractionalDuffing;
+    /// use ihbm::timedomain::{PeriodicStart, Stepper, StepperOptions};
+    /// let model = FractionalDuffing::default();
+    /// let (omega, nh) = (1.0, 5);
+    /// let sol = solve(&model, omega, &SolveOptions { harmonics: nh, ..Default::default() }, None).unwrap();
+    /// let start = PeriodicStart::new(sol.coeffs.clone(), nh);
+    /// let dt = std::f64::consts::TAU / omega / 400.0;
+    /// let mut s = Stepper::on_periodic(&model, omega, &start, &StepperOptions::new(dt, 4000)).unwrap();
+    /// for _ in 0..4000 { s.step().unwrap(); }
+    /// // Ten periods on, still on the harmonic-balance solution (no start-up transient).
+    /// let on = start.displacements(omega, s.time())[0];
+    /// assert!((s.displacements()[0] - on).abs() < 1e-4 * on.abs().max(0.1));
+    /// ```
+    pub fn on_periodic(
+        model: &'m M,
+        omega: f64,
+        start: &PeriodicStart,
+        opts: &StepperOptions,
+    ) -> Result<Self, Error> {
+        start.check(model.dofs().len())?;
+        Self::start(model, omega, opts, Some(start))
+    }
+
+    fn start(
+        model: &'m M,
+        omega: f64,
+        opts: &StepperOptions,
+        periodic: Option<&PeriodicStart>,
+    ) -> Result<Self, Error> {
         model.validate()?;
         if !(opts.dt.is_finite() && opts.dt > 0.0) {
             return Err(Error::InvalidValue {
@@ -165,8 +302,21 @@ impl<'m, M: Model> Stepper<'m, M> {
         let params_f = model.param_values();
         model.check_coefficients(&params_f, omega)?;
         let dt = opts.dt;
+        let n = model.dofs().len();
+        // The state at t = 0: rest, or the periodic solution's (moved).
+        let (mut x0, mut v0) = (vec![0.0; n], vec![0.0; n]);
+        let base = periodic.map(|p| (p, omega / p.period as f64, 2 * p.harmonics + 1));
+        if let Some((p, w, len)) = base {
+            let mut d = vec![0.0; len];
+            for (i, b) in p.coeffs.chunks_exact(len).enumerate() {
+                apply_order(b, 1.0, w, &mut d);
+                x0[i] = eval(b, 0.0) + p.dx.get(i).copied().unwrap_or(0.0);
+                v0[i] = eval(&d, 0.0) + p.dv.get(i).copied().unwrap_or(0.0);
+            }
+        }
         let mut kinds = Vec::new();
         let mut histories = Vec::new();
+        let mut pasts = Vec::new();
         for s in model.signals() {
             let kind = match s.order {
                 Order::Int(0) => Kind::Displacement,
@@ -185,16 +335,20 @@ impl<'m, M: Model> Stepper<'m, M> {
                     let q = params_f[i];
                     let w = opts.scheme.weights(q, opts.steps + 1);
                     let w0 = w[0];
+                    pasts.push(base.map(|(p, w_base, len)| {
+                        let mut e = vec![0.0; len];
+                        combine_blocks(&s.terms, &p.coeffs, &mut e);
+                        PeriodicPast::new(&e, w_base, dt, q, opts.scheme, opts.memory, w.clone())
+                    }));
                     histories.push(History::new(opts.memory, w));
                     if let Some(h) = histories.last_mut() {
-                        h.push(0.0)?; // e_0 = 0: from rest
+                        h.push(combine(&s.terms, &x0))?; // e_0 (0 from rest)
                     }
                     Kind::Fractional { history: histories.len() - 1, scale: dt.powf(-q), w0 }
                 }
             };
             kinds.push(kind);
         }
-        let n = model.dofs().len();
         let nsig = kinds.len();
         let mut s = Stepper {
             model,
@@ -205,11 +359,12 @@ impl<'m, M: Model> Stepper<'m, M> {
             step: 0,
             newton_tol: opts.newton_tol,
             max_newton: opts.max_newton.max(1),
-            x: vec![0.0; n],
-            v: vec![0.0; n],
+            x: x0,
+            v: v0,
             a: vec![0.0; n],
             kinds,
             histories,
+            pasts,
             base: vec![0.0; nsig],
             slope: vec![0.0; nsig],
             sig: vec![Dual64::new(0.0, 0.0); nsig],
@@ -223,12 +378,27 @@ impl<'m, M: Model> Stepper<'m, M> {
             newton_total: 0,
             newton_max: 0,
         };
-        // t = 0: displacement, velocity and every fractional derivative vanish.
-        for (i, k) in s.kinds.iter().enumerate() {
-            s.base[i] = 0.0;
-            s.slope[i] = if matches!(k, Kind::Acceleration) { 1.0 } else { 0.0 };
+        // t = 0: every signal but the accelerations is known (from rest, zero).
+        for (i, sig) in model.signals().iter().enumerate() {
+            let (base, slope) = match s.kinds[i] {
+                Kind::Displacement => (combine(&sig.terms, &s.x), 0.0),
+                Kind::Velocity => (combine(&sig.terms, &s.v), 0.0),
+                Kind::Acceleration => (0.0, 1.0),
+                Kind::Fractional { history, scale, w0 } => {
+                    let past = match s.pasts[history].as_mut() {
+                        Some(p) => p.tail()?,
+                        None => 0.0,
+                    };
+                    (scale * (w0 * combine(&sig.terms, &s.x) + past), 0.0)
+                }
+            };
+            s.base[i] = base;
+            s.slope[i] = slope;
         }
         s.solve(0.0, true)?;
+        for p in s.pasts.iter_mut().flatten() {
+            p.advance()?;
+        }
         Ok(s)
     }
 
@@ -257,7 +427,10 @@ impl<'m, M: Model> Stepper<'m, M> {
                 Kind::Velocity => (comb(&self.v_new), GAMMA * dt),
                 Kind::Acceleration => (0.0, 1.0),
                 Kind::Fractional { history, scale, w0 } => {
-                    let h = self.histories[history].lag_sum()?;
+                    let mut h = self.histories[history].lag_sum()?;
+                    if let Some(p) = self.pasts[history].as_mut() {
+                        h += p.tail()?;
+                    }
                     (scale * (w0 * comb(&self.x_new) + h), scale * w0 * BETA * dt2)
                 }
             };
@@ -368,6 +541,9 @@ impl<'m, M: Model> Stepper<'m, M> {
                 if let Kind::Fractional { history, .. } = *kind {
                     let e = combine(&s.terms, &self.x);
                     self.histories[history].push(e)?;
+                    if let Some(p) = self.pasts[history].as_mut() {
+                        p.advance()?;
+                    }
                 }
             }
             self.step += 1;

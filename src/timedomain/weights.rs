@@ -13,6 +13,7 @@
 //! the wanted solution decays like `n^(-q-1)` while the parasitic one (from the root
 //! ζ = 3 of the BDF2 polynomial) decays like `3^-n`.
 
+use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
 /// The convolution-quadrature rule for fractional derivatives.
@@ -57,6 +58,28 @@ impl Scheme {
     /// ```
     pub fn weights(self, q: f64, len: usize) -> Vec<f64> {
         power_series(self.polynomial(), q, len)
+    }
+
+    /// The rule's symbol `δ(ζ)^q`, the sum of `w_j ζ^j` for `|ζ| ≤ 1`: what the
+    /// quadrature makes of `D^q` applied to `e^{iωt}` sampled over an infinite past,
+    /// `dt^-q δ(e^{-iωdt})^q e^{iωt}` (the continuous `(iω)^q` as `dt → 0`). The
+    /// principal power is the series' sum: on the closed unit disk `arg δ` stays within
+    /// `±π/2` (GL) and `±(π/2 + asin(1/3))` (BDF2, `δ = (1 - ζ)(3 - ζ)/2`), never `π`.
+    ///
+    /// ```
+    /// use ihbm::timedomain::Scheme;
+    /// use num_complex::Complex64;
+    /// // q = 1 at ζ = e^{-iθ}: GL is the backward difference 1 - e^{-iθ}.
+    /// let z = Complex64::new(0.0, -0.3).exp();
+    /// assert!((Scheme::Gl.symbol(z, 1.0) - (1.0 - z)).norm() < 1e-15);
+    /// ```
+    pub fn symbol(self, zeta: Complex64, q: f64) -> Complex64 {
+        let delta: Complex64 =
+            self.polynomial().iter().rev().fold(Complex64::new(0.0, 0.0), |acc, &a| acc * zeta + a);
+        if delta == Complex64::new(0.0, 0.0) {
+            return Complex64::new(if q == 0.0 { 1.0 } else { 0.0 }, 0.0);
+        }
+        delta.powf(q)
     }
 }
 
@@ -114,6 +137,35 @@ mod tests {
             for i in 0..n {
                 let prod: f64 = (0..=i).map(|j| gl[j] * third[i - j]).sum::<f64>() * 1.5f64.powf(q);
                 assert!((prod - w[i]).abs() <= 1e-13 * (1.0 + w[i].abs()), "q {q} i {i}");
+            }
+        }
+    }
+
+    /// The symbol is the weights' generating function: on the unit circle their
+    /// partial sums `Σ_{j≤J} w_j e^{-ijθ}` approach `δ(e^{-iθ})^q` (the remainder of
+    /// the oscillating tail is of order `J^{-1-q}`), inside it they converge fast.
+    #[test]
+    fn symbol_is_the_sum_of_the_weights() {
+        for scheme in [Scheme::Gl, Scheme::Bdf2] {
+            for &q in &[0.3, 0.5, 1.5] {
+                let w = scheme.weights(q, 200_001);
+                for (zeta, tol) in [
+                    (Complex64::new(0.0, -0.7).exp(), 1e-6),
+                    (Complex64::new(0.0, -2.9).exp(), 1e-6),
+                    (Complex64::new(0.5, 0.4), 1e-12),
+                ] {
+                    let mut z = Complex64::new(1.0, 0.0);
+                    let mut sum = Complex64::new(0.0, 0.0);
+                    for wj in &w {
+                        sum += wj * z;
+                        z *= zeta;
+                    }
+                    let symbol = scheme.symbol(zeta, q);
+                    assert!(
+                        (sum - symbol).norm() < tol,
+                        "{scheme} q {q} ζ {zeta}: {sum} vs {symbol}"
+                    );
+                }
             }
         }
     }

@@ -1,7 +1,7 @@
 //! Bad input gives a clear error naming the value; a run that blows up says when.
 
 use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};
-use ihbm::timedomain::{simulate, Scheme, SimOptions, Stepper, StepperOptions};
+use ihbm::timedomain::{simulate, PeriodicStart, Scheme, SimOptions, Stepper, StepperOptions};
 use ihbm::Error;
 
 fn invalid_message(r: Result<ihbm::timedomain::Simulation, Error>) -> String {
@@ -116,5 +116,31 @@ fn overflowing_run_reports_the_time() {
             assert!(detail.contains("not finite"), "{detail}");
         }
         other => panic!("expected Diverged, got {other:?}"),
+    }
+}
+
+/// A periodic start that does not fit the model (coefficients for other harmonics or
+/// DOFs, a displacement per wrong DOF count, a NaN, period 0) is refused with what
+/// was expected; nothing is integrated.
+#[test]
+fn a_periodic_start_that_does_not_fit_is_refused() {
+    let car = QuarterCar::default();
+    let opts = StepperOptions::new(1e-3, 10);
+    let good = PeriodicStart::new(vec![0.01; 2 * 7], 3);
+    assert!(Stepper::on_periodic(&car, 8.0, &good, &opts).is_ok());
+    let cases = [
+        (PeriodicStart::new(vec![0.01; 2 * 5], 3), "14: 2 DOFs × (2·3 + 1)"),
+        (PeriodicStart { dx: vec![1e-3; 3], ..good.clone() }, "one per DOF (2)"),
+        (PeriodicStart { dv: vec![f64::NAN, 0.0], ..good.clone() }, "finite"),
+        (PeriodicStart { period: 0, ..good.clone() }, "at least 1"),
+    ];
+    for (start, expected) in cases {
+        match Stepper::on_periodic(&car, 8.0, &start, &opts) {
+            Err(e @ Error::InvalidValue { .. }) => {
+                let msg = e.to_string();
+                assert!(msg.contains(expected) && msg.contains("periodic start"), "{msg}");
+            }
+            other => panic!("expected InvalidValue, got {other:?}"),
+        }
     }
 }

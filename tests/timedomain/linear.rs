@@ -18,7 +18,7 @@
 //!    3x the predicted error, and that the predicted error has the scheme's order.
 
 use ihbm::models::FractionalDuffing;
-use ihbm::timedomain::{simulate, Scheme, SimOptions};
+use ihbm::timedomain::{simulate, PeriodicStart, Scheme, SimOptions, Stepper, StepperOptions};
 use num_complex::Complex64;
 use std::f64::consts::TAU;
 
@@ -32,6 +32,16 @@ fn exact(o: &FractionalDuffing, w: f64) -> f64 {
 }
 
 fn discrete(o: &FractionalDuffing, w: f64, dt: f64, scheme: Scheme) -> f64 {
+    discrete_response(o, w, dt, scheme).0.norm()
+}
+
+/// The scheme's periodic response `x_n = Re X e^{iΩ t_n}` and its velocity symbol `s`.
+fn discrete_response(
+    o: &FractionalDuffing,
+    w: f64,
+    dt: f64,
+    scheme: Scheme,
+) -> (Complex64, Complex64) {
     let s = Complex64::new(0.0, 2.0 / dt * (w * dt / 2.0).tan());
     let z = Complex64::new(0.0, -w * dt).exp(); // ζ = e^{-iΩdt}
     let delta = match scheme {
@@ -39,7 +49,7 @@ fn discrete(o: &FractionalDuffing, w: f64, dt: f64, scheme: Scheme) -> f64 {
         Scheme::Bdf2 => (3.0 - 4.0 * z + z * z) / 2.0,
     };
     let frac = (delta / dt).powf(o.p);
-    (o.F / (o.k + o.c * s + o.m * s * s + o.h * frac)).norm()
+    (o.F / (o.k + o.c * s + o.m * s * s + o.h * frac), s)
 }
 
 fn check(p: f64, w: f64, scheme: Scheme) {
@@ -117,4 +127,45 @@ fn transient_from_rest_decays_algebraically() {
         assert!((4.0..16.0).contains(&f), "{f}");
     }
     assert!((0.6..1.6).contains(&(f2 / f1)), "{f1} {f2}");
+}
+
+/// Started on the scheme's own periodic response (displacement `Re X`, velocity
+/// `Re sX`: the harmonic `X cos` with the trapezoidal velocity) and its infinite past,
+/// the run stays on it: at every step of 20 periods `x_n = Re X e^{iΩt_n}` to 1e-10
+/// of `|X|`, for both rules and an order above 1. From rest the same run starts a
+/// transient, off by the response's own size in the first periods.
+#[test]
+fn started_on_the_discrete_periodic_response_it_stays_there() {
+    let w = 1.0;
+    for (p, scheme) in [(0.5, Scheme::Bdf2), (0.5, Scheme::Gl), (1.5, Scheme::Bdf2)] {
+        let o = oscillator(p);
+        let per_period = 400;
+        let dt = TAU / w / per_period as f64;
+        let (x, s) = discrete_response(&o, w, dt, scheme);
+        // x(t) = Re X e^{iΩt} = a1 cos Ωt + b1 sin Ωt with a1 = Re X, b1 = -Im X; the
+        // start's velocity is that of the continuous harmonic, Re(iΩX).
+        let start = PeriodicStart {
+            dv: vec![(s * x - Complex64::new(0.0, w) * x).re],
+            ..PeriodicStart::new(vec![0.0, x.re, -x.im], 1)
+        };
+        let steps = 20 * per_period;
+        let opts = StepperOptions { scheme, ..StepperOptions::new(dt, steps) };
+        let mut on = Stepper::on_periodic(&o, w, &start, &opts).unwrap();
+        let mut rest = Stepper::new(&o, w, &opts).unwrap();
+        let (mut worst, mut off): (f64, f64) = (0.0, 0.0);
+        for n in 1..=steps {
+            on.step().unwrap();
+            rest.step().unwrap();
+            let exact = (x * Complex64::new(0.0, w * n as f64 * dt).exp()).re;
+            worst = worst.max((on.displacements()[0] - exact).abs());
+            off = off.max((rest.displacements()[0] - exact).abs());
+        }
+        println!(
+            "p {p} {scheme}: on the response to {:.1e}, from rest {:.1e}",
+            worst / x.norm(),
+            off / x.norm()
+        );
+        assert!(worst < 1e-10 * x.norm(), "p {p} {scheme}: {worst:e} of {}", x.norm());
+        assert!(off > 0.3 * x.norm(), "p {p} {scheme}: from rest only {off:e} off");
+    }
 }
