@@ -25,7 +25,7 @@ use ihbm::stability::{Hill, StabilityOptions};
 use num_complex::Complex64;
 
 #[path = "../../benches/chains/mod.rs"]
-mod chains;
+pub(crate) mod chains;
 use chains::{Chain10, Chain20, Chain5};
 use ihbm::corrector::{solve, SolveOptions};
 use ihbm::linalg::BorderedLu;
