@@ -261,7 +261,14 @@ impl Hill {
                 let mut cand = c;
                 let l = loop {
                     match self.refine(params, omega, cand, start.take(), opts.max_refine_iter) {
-                        Some(l) if !self.sel.raw.iter().any(|&r| same_exponent(l, r, omega)) => {
+                        // A new root; an unstable one only if centred (an unstable
+                        // root off centre does not decide the verdict: like a second
+                        // copy, it sends the next spare, and if none refines, the count
+                        // decides).
+                        Some((l, centre))
+                            if refinement::may_witness(l, centre, opts.tol * omega)
+                                && !self.sel.raw.iter().any(|&r| same_exponent(l, r, omega)) =>
+                        {
                             top_refined = top_refined.max(l.re);
                             break l;
                         }

@@ -1,7 +1,7 @@
 //! Continuing the exponents of one point to the next along a curve, and the rules
 //! for when that cannot be trusted (book, *Tracking along a curve*).
 
-use super::refinement::{normalise, to_upper_half, OFF_CENTRE_MAX};
+use super::refinement::{may_witness, normalise, to_upper_half, OFF_CENTRE_MAX};
 use super::*;
 
 impl Hill {
@@ -271,9 +271,9 @@ impl Hill {
     /// Continue a partial set ([`Hill::start_partial_state`]) to the current point.
     /// Its roots only witness instability and place the count's contour, so none of
     /// the rules for a complete set apply but the refinement's own: a root that does
-    /// not converge, lands off centre by more than [`OFF_CENTRE_MAX`] or on a root
-    /// kept already is dropped from the set. The verdict is then
-    /// [`Hill::counted_on`]'s.
+    /// not converge, lands off centre by more than [`OFF_CENTRE_MAX`], off centre and
+    /// unstable ([`may_witness`]) or on a root kept already is dropped from the set.
+    /// The verdict is then [`Hill::counted_on`]'s.
     pub(super) fn continue_partial(
         &mut self,
         params: &[f64],
@@ -291,6 +291,7 @@ impl Hill {
         for ((&l, v), &pred) in st.lambdas.iter().zip(&st.vectors).zip(&predicted) {
             let Some(c) = self.continue_one(params, omega, pred, v.clone()) else { continue };
             if c.centre.abs() > OFF_CENTRE_MAX
+                || !may_witness(c.l, c.centre.abs(), opts.tol * omega)
                 || lambdas.iter().any(|&k| same_exponent(k, c.l, omega))
             {
                 continue;

@@ -14,7 +14,7 @@
 //!    rest with `ihbm::timedomain::simulate`, the steady response settles on one of the
 //!    stable branches, never on the one Hill flags unstable.
 
-use crate::scale::chains::Chain5;
+use crate::scale::chains::{Chain20, Chain5};
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, HalfCar, QuarterCar};
@@ -106,18 +106,18 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
     }
 }
 
-/// The growth rate of a perturbation of the periodic solution `start` of the 5-mass
-/// chain at `omega`, measured in time: two runs started on it (each with the
+/// The growth rate of a perturbation of the periodic solution `start` at `omega`,
+/// measured in time: two runs started on it (each with the
 /// solution's past, so neither has a start-up transient), one displaced by `1e-6` of
-/// `scale` at every mass; the largest difference of their displacements once per
+/// `scale` at every DOF; the largest difference of their displacements once per
 /// period, and the least-squares slope of its logarithm from the fifth period on. The
 /// difference, not the distance to the solution: the scheme's own periodic motion is
 /// off the harmonic balance one by its discretisation error, the same in both runs.
 /// The runs last until a rate `expected` has changed the difference by `e^5` (at least
 /// 20 periods): a slowly decaying mode needs that long to stand out from the memory's
 /// algebraic tail and the beating of the other lightly damped modes.
-fn measured_rate(
-    model: &Chain5,
+fn measured_rate<M: ihbm::Model>(
+    model: &M,
     omega: f64,
     start: &PeriodicStart,
     scale: f64,
@@ -128,7 +128,7 @@ fn measured_rate(
     let periods = ((5.0 / (expected.abs() * period)).ceil() as usize).max(20);
     let dt = period / per_period as f64;
     let opts = StepperOptions::new(dt, periods * per_period);
-    let moved = PeriodicStart { dx: vec![1e-6 * scale; 5], ..start.clone() };
+    let moved = PeriodicStart { dx: vec![1e-6 * scale; model.dofs().len()], ..start.clone() };
     let mut on = Stepper::on_periodic(model, omega, start, &opts).unwrap();
     let mut off = Stepper::on_periodic(model, omega, &moved, &opts).unwrap();
     let mut log_gap = Vec::new();
@@ -191,6 +191,38 @@ fn fractional_chain_perturbations_grow_at_the_rate_of_the_hill_exponents() {
         verdicts.push(f.stable);
     }
     assert_eq!(verdicts, [true, false, true, false, true]);
+}
+
+/// The 20-mass chain at N = 11 near 0.119 rad/s (response 36 times the forcing at the
+/// last mass): the refinement reached a root of the truncated `T` at 0.0025 + 0.126i
+/// whose eigenvector is centred at harmonic -0.89, a copy with no centred counterpart,
+/// and the analysis called the point unstable. The root count of the centred strip
+/// finds no unstable root, and in time a perturbation does not grow: over runs long
+/// enough for that exponent to have grown it by `e^5`, the measured rate is below a
+/// fifth of it (-1.6e-4 measured). An unstable root off centre now leaves the verdict
+/// to the count.
+#[test]
+fn an_unstable_root_off_centre_does_not_decide_the_verdict() {
+    let model = Chain20::default();
+    let nh = 11;
+    let off = SweepOptions { harmonics: nh, stability: None, ..Default::default() };
+    let curve = sweep(&model, 0.05, 0.13, &off).unwrap();
+    let p = curve
+        .points
+        .iter()
+        .min_by(|a, b| (a.omega - 0.1189).abs().total_cmp(&(b.omega - 0.1189).abs()));
+    let p = p.unwrap();
+    assert!((p.omega - 0.1189).abs() < 1e-3 && p.outputs[1].max_abs > 30.0, "{}", p.omega);
+    let mut bal = Balance::new(&model, nh).unwrap();
+    let mut hill = Hill::new(&model, nh).unwrap();
+    let so = StabilityOptions::default();
+    let f = hill.analyse(&mut bal, &p.coeffs, p.omega, &so).unwrap();
+    let count = hill.unstable_roots(&mut bal, &p.coeffs, p.omega, &so).unwrap();
+    assert_eq!((f.stable, f.counted, count), (true, true, 0), "{f:?}");
+    let old = 2.5e-3;
+    let start = PeriodicStart::new(p.coeffs.clone(), nh);
+    let rate = measured_rate(&model, p.omega, &start, p.outputs[1].max_abs, old);
+    assert!(rate < 0.2 * old, "a perturbation grows at {rate:e}");
 }
 
 /// The values of output `out`'s max_abs on every branch of `curve` at `omega`
