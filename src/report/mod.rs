@@ -55,12 +55,60 @@ impl FreqUnit {
     }
 }
 
+/// The suffix of the temporary file [`write_file`] writes before renaming it into
+/// place: `NAME.PID.ihbm-tmp`, `PID` the writing process's.
+const TMP_SUFFIX: &str = ".ihbm-tmp";
+
+/// Remove the temporary files that runs killed outright (SIGKILL, a power cut: no
+/// chance to clean up) left in `dir`, and say how many. Only files of
+/// [`write_file`]'s pattern whose process no longer runs (on Linux, no `/proc/PID`);
+/// elsewhere, where that cannot be told, only this process's own. A directory that
+/// cannot be read has nothing to remove.
+///
+/// ```
+/// let dir = std::env::temp_dir().join(format!("ihbm-doc-stale-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// // A process id no process has (beyond Linux's pid_max).
+/// std::fs::write(dir.join("fig.csv.4194305.ihbm-tmp"), "half").unwrap();
+/// std::fs::write(dir.join("fig.csv"), "whole").unwrap();
+/// // Process 1 runs (init): its file may still be renamed into place.
+/// std::fs::write(dir.join("fig.svg.1.ihbm-tmp"), "being written").unwrap();
+/// # #[cfg(target_os = "linux")]
+/// assert_eq!(ihbm::report::remove_stale_temporaries(&dir), 1);
+/// assert!(dir.join("fig.csv").exists() && dir.join("fig.svg.1.ihbm-tmp").exists());
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn remove_stale_temporaries(dir: &Path) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else { return 0 };
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = name
+            .strip_suffix(TMP_SUFFIX)
+            .and_then(|rest| rest.rsplit('.').next())
+            .and_then(|pid| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        let gone = if pid == std::process::id() {
+            true
+        } else {
+            cfg!(target_os = "linux") && !Path::new("/proc").join(pid.to_string()).exists()
+        };
+        if gone && std::fs::remove_file(e.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// Write `text` to `path`, creating parent directories; errors name the path.
 ///
 /// The file is written whole or not at all: the text goes to a temporary file beside
 /// `path` (same directory, so the rename cannot cross file systems), which is then
 /// renamed over `path`. An interrupt, a full disk or a file-size limit leaves the old
-/// file (or none) and at worst a `.ihbm-tmp` file, never a truncated `path`.
+/// file (or none) and at worst a `.ihbm-tmp` file, never a truncated `path`; a
+/// study removes such files left by killed runs ([`remove_stale_temporaries`]).
 ///
 /// ```
 /// let dir = std::env::temp_dir().join(format!("ihbm-doc-write-{}", std::process::id()));
@@ -83,7 +131,7 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), Error> {
         }
     }
     let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-    tmp_name.push(format!(".{}.ihbm-tmp", std::process::id()));
+    tmp_name.push(format!(".{}{TMP_SUFFIX}", std::process::id()));
     let tmp = path.with_file_name(tmp_name);
     let written = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
     if written.is_err() {

@@ -257,6 +257,9 @@ pub fn run_until(
     let plans = plan(study, reg)?;
     std::fs::create_dir_all(dir)
         .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
+    // A run killed outright here before may have left a file half-written under its
+    // temporary name.
+    crate::report::remove_stale_temporaries(dir);
     let mut out = StudyOutcome::default();
     let log = RunLog::start(study, dir, &mut out);
     let mut finished = run_jobs(&plans, dir, stop, &log, &mut out);
