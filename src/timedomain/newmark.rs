@@ -127,7 +127,7 @@ impl PeriodicStart {
     /// Each DOF's displacement on the periodic solution at time `t` (forcing
     /// frequency `omega`): what a run started on it is measured against.
     pub fn displacements(&self, omega: f64, t: f64) -> Vec<f64> {
-        let len = 2 * self.harmonics + 1;
+        let len = self.harmonics.saturating_mul(2).saturating_add(1);
         let theta = omega / self.period.max(1) as f64 * t;
         self.coeffs.chunks_exact(len).map(|b| eval(b, theta)).collect()
     }
@@ -139,8 +139,9 @@ impl PeriodicStart {
             value,
             expected,
         };
-        let len = ndof * (2 * self.harmonics + 1);
-        if self.coeffs.len() != len {
+        let len = self.harmonics.checked_mul(2).and_then(|n| (n + 1).checked_mul(ndof));
+        if Some(self.coeffs.len()) != len {
+            let len = len.map_or("more than memory holds".into(), |l| l.to_string());
             return Err(invalid(
                 "periodic start coefficients",
                 format!("{} values", self.coeffs.len()),

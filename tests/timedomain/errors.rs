@@ -133,6 +133,7 @@ fn a_periodic_start_that_does_not_fit_is_refused() {
         (PeriodicStart { dx: vec![1e-3; 3], ..good.clone() }, "one per DOF (2)"),
         (PeriodicStart { dv: vec![f64::NAN, 0.0], ..good.clone() }, "finite"),
         (PeriodicStart { period: 0, ..good.clone() }, "at least 1"),
+        (PeriodicStart::new(vec![0.0; 3], usize::MAX / 2), "more than memory holds"),
     ];
     for (start, expected) in cases {
         match Stepper::on_periodic(&car, 8.0, &start, &opts) {
