@@ -58,6 +58,7 @@
 
 pub mod budget;
 pub mod compare;
+pub mod growth;
 pub mod memory;
 pub mod newmark;
 pub mod past;
@@ -66,6 +67,7 @@ pub mod steady;
 pub mod weights;
 
 pub use compare::{compare, compare_at, CompareOutput, CompareRow};
+pub use growth::{growth, Growth};
 pub use memory::{FastHistory, History, Memory, NaiveHistory};
 pub use newmark::{PeriodicStart, Stepper, StepperOptions};
 pub use past::PeriodicPast;
@@ -197,17 +199,29 @@ pub fn estimate_bytes<M: Model>(
     fractional as f64 * History::bytes(opts.memory, cap) + 8.0 * (outputs * tail + record)
 }
 
-/// Integrate `model` from rest at forcing frequency `omega` (rad/s) and report the
-/// steady statistics of every output over the last 10 periods.
-///
-/// Errors: `omega <= 0` or not finite, `dt <= 0` or not finite, fewer than
-/// [`MIN_PERIODS`] periods, fewer than [`MIN_STEPS_PER_PERIOD`] steps per period of
-/// the highest forcing harmonic, more than [`MAX_STEPS`] steps or memory estimated
-/// beyond [`MEMORY_LIMIT`] ([`estimate_bytes`]; with integrations running in other
-/// threads it waits for its share, see [`budget`]), an invalid model
-/// (see [`Model::validate`]); [`Error::Diverged`] with the time if the state stops
-/// being finite or a step's Newton iteration fails.
-pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Simulation, Error> {
+/// The stepper's settings for a run of `steps` steps of `dt` under `opts`.
+fn stepper_options(opts: &SimOptions, dt: f64, steps: usize) -> StepperOptions {
+    StepperOptions {
+        dt,
+        steps,
+        scheme: opts.scheme,
+        memory: opts.memory,
+        newton_tol: opts.newton_tol,
+        max_newton: opts.max_newton,
+    }
+}
+
+/// What a run of [`SimOptions::periods`] periods at `omega` takes, checked (see
+/// [`simulate`]'s errors): the period, the step, the steps and the memory of `runs`
+/// such runs at once.
+struct RunPlan {
+    period: f64,
+    dt: f64,
+    steps: usize,
+    bytes: f64,
+}
+
+fn plan<M: Model>(model: &M, omega: f64, opts: &SimOptions, runs: f64) -> Result<RunPlan, Error> {
     if !(omega.is_finite() && omega > 0.0) {
         return Err(invalid("omega", omega, "a finite frequency > 0 in rad/s"));
     }
@@ -248,12 +262,12 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
         ));
     }
     let steps = steps_f as usize;
-    let bytes = estimate_bytes(model, steps, period / dt, opts);
+    let bytes = runs * estimate_bytes(model, steps, period / dt, opts);
     if bytes > MEMORY_LIMIT {
         // The most periods whose estimate fits (the estimate grows with the steps).
         let steps_of = |p: usize| (p as f64 * period / dt - 1e-9).ceil() as usize;
         let lo = largest_fitting(opts.periods, |p| {
-            estimate_bytes(model, steps_of(p), period / dt, opts) <= MEMORY_LIMIT
+            runs * estimate_bytes(model, steps_of(p), period / dt, opts) <= MEMORY_LIMIT
         });
         return Err(invalid(
             "time integration",
@@ -268,18 +282,26 @@ pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Si
             ),
         ));
     }
+    Ok(RunPlan { period, dt, steps, bytes })
+}
+
+/// Integrate `model` from rest at forcing frequency `omega` (rad/s) and report the
+/// steady statistics of every output over the last 10 periods.
+///
+/// Errors: `omega <= 0` or not finite, `dt <= 0` or not finite, fewer than
+/// [`MIN_PERIODS`] periods, fewer than [`MIN_STEPS_PER_PERIOD`] steps per period of
+/// the highest forcing harmonic, more than [`MAX_STEPS`] steps or memory estimated
+/// beyond [`MEMORY_LIMIT`] ([`estimate_bytes`]; with integrations running in other
+/// threads it waits for its share, see [`budget`]), an invalid model
+/// (see [`Model::validate`]); [`Error::Diverged`] with the time if the state stops
+/// being finite or a step's Newton iteration fails.
+pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Simulation, Error> {
+    let RunPlan { period, dt, steps, bytes } = plan(model, omega, opts, 1.0)?;
     // Parallel integrations (a study's parts) share one budget: wait, not abort.
     let _held = budget::reserve(bytes);
     let window = (10.0 * period / dt).round() as usize;
     let record_from = steps.saturating_sub(2 * window);
-    let step_opts = StepperOptions {
-        dt,
-        steps,
-        scheme: opts.scheme,
-        memory: opts.memory,
-        newton_tol: opts.newton_tol,
-        max_newton: opts.max_newton,
-    };
+    let step_opts = stepper_options(opts, dt, steps);
     let outs = model.outputs();
     let mut tail: Vec<Vec<f64>> =
         outs.iter().map(|_| Vec::with_capacity(steps - record_from + 1)).collect();

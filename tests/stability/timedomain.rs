@@ -19,7 +19,7 @@ use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, HalfCar, QuarterCar};
 use ihbm::stability::{Hill, StabilityOptions};
-use ihbm::timedomain::{simulate, PeriodicStart, SimOptions, Stepper, StepperOptions};
+use ihbm::timedomain::{growth, simulate, PeriodicStart, SimOptions};
 
 const D: Duffing = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
 
@@ -107,15 +107,11 @@ fn perturbed_unstable_point_leaves_its_branch_and_stable_point_stays() {
 }
 
 /// The growth rate of a perturbation of the periodic solution `start` at `omega`,
-/// measured in time: two runs started on it (each with the
-/// solution's past, so neither has a start-up transient), one displaced by `1e-6` of
-/// `scale` at every DOF; the largest difference of their displacements once per
-/// period, and the least-squares slope of its logarithm from the fifth period on. The
-/// difference, not the distance to the solution: the scheme's own periodic motion is
-/// off the harmonic balance one by its discretisation error, the same in both runs.
-/// The runs last until a rate `expected` has changed the difference by `e^5` (at least
-/// 20 periods): a slowly decaying mode needs that long to stand out from the memory's
-/// algebraic tail and the beating of the other lightly damped modes.
+/// measured in time (`timedomain::growth`: the difference of two runs started on it
+/// with its past, one displaced by `1e-6` of `scale` at every DOF). The runs last
+/// until a rate `expected` has changed the difference by `e^5` (at least 20 periods):
+/// a slowly decaying mode needs that long to stand out from the memory's algebraic
+/// tail and the beating of the other lightly damped modes.
 fn measured_rate<M: ihbm::Model>(
     model: &M,
     omega: f64,
@@ -123,31 +119,11 @@ fn measured_rate<M: ihbm::Model>(
     scale: f64,
     expected: f64,
 ) -> f64 {
-    let per_period = 400;
     let period = std::f64::consts::TAU / omega;
     let periods = ((5.0 / (expected.abs() * period)).ceil() as usize).max(20);
-    let dt = period / per_period as f64;
-    let opts = StepperOptions::new(dt, periods * per_period);
     let moved = PeriodicStart { dx: vec![1e-6 * scale; model.dofs().len()], ..start.clone() };
-    let mut on = Stepper::on_periodic(model, omega, start, &opts).unwrap();
-    let mut off = Stepper::on_periodic(model, omega, &moved, &opts).unwrap();
-    let mut log_gap = Vec::new();
-    for n in 1..=periods * per_period {
-        on.step().unwrap();
-        off.step().unwrap();
-        if n % per_period == 0 {
-            let (a, b) = (on.displacements(), off.displacements());
-            let gap = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-            log_gap.push((on.time(), gap.ln()));
-        }
-    }
-    let fit = &log_gap[4..];
-    let n = fit.len() as f64;
-    let (mt, my) = fit.iter().fold((0.0, 0.0), |(t, y), p| (t + p.0 / n, y + p.1 / n));
-    let (num, den) = fit
-        .iter()
-        .fold((0.0, 0.0), |(u, v), p| (u + (p.0 - mt) * (p.1 - my), v + (p.0 - mt).powi(2)));
-    num / den
+    let opts = SimOptions { periods, ..Default::default() };
+    growth(model, omega, &moved, &opts).unwrap().rate.unwrap()
 }
 
 /// The 5-mass chain (p = 0.5, N = 11, strong cubic springs) folds four times in its

@@ -1,7 +1,9 @@
 //! Bad input gives a clear error naming the value; a run that blows up says when.
 
 use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};
-use ihbm::timedomain::{simulate, PeriodicStart, Scheme, SimOptions, Stepper, StepperOptions};
+use ihbm::timedomain::{
+    growth, simulate, PeriodicStart, Scheme, SimOptions, Stepper, StepperOptions,
+};
 use ihbm::Error;
 
 fn invalid_message(r: Result<ihbm::timedomain::Simulation, Error>) -> String {
@@ -144,4 +146,26 @@ fn a_periodic_start_that_does_not_fit_is_refused() {
             other => panic!("expected InvalidValue, got {other:?}"),
         }
     }
+}
+
+/// `growth` follows a displacement: without one, or with fewer than 6 periods of the
+/// solution to fit, it is refused before anything is integrated; a bad start is
+/// refused as `Stepper::on_periodic` refuses it.
+#[test]
+fn growth_without_a_displacement_or_periods_to_fit_is_refused() {
+    let car = QuarterCar::default();
+    let start = PeriodicStart::new(vec![0.01; 2 * 7], 3);
+    let opts = SimOptions::default();
+    let message = |r: Result<ihbm::timedomain::Growth, Error>| match r {
+        Err(e @ Error::InvalidValue { .. }) => e.to_string(),
+        other => panic!("expected InvalidValue, got {other:?}"),
+    };
+    let msg = message(growth(&car, 8.0, &start, &opts));
+    assert!(msg.contains("no displacement"), "{msg}");
+    let moved = PeriodicStart { dx: vec![1e-6, 0.0], period: 4, ..start.clone() };
+    let msg = message(growth(&car, 8.0, &moved, &SimOptions { periods: 20, ..opts.clone() }));
+    assert!(msg.contains("at least 24"), "{msg}");
+    let bad = PeriodicStart { dx: vec![1e-6; 3], ..start };
+    let msg = message(growth(&car, 8.0, &bad, &opts));
+    assert!(msg.contains("one per DOF"), "{msg}");
 }
