@@ -49,7 +49,7 @@ pub struct PeriodicPast {
 impl PeriodicPast {
     /// The past of `signal` (one coefficient vector, `2N + 1` long, of frequency
     /// `omega`) for `D^q` by `scheme` with step `dt`; `weights` are the rule's
-    /// (`w_0 ..`, as many as the run has steps plus one).
+    /// (`w_0 ..`, as many as the run has steps plus one). An empty `signal` is zero.
     pub fn new(
         signal: &[f64],
         omega: f64,
@@ -59,6 +59,7 @@ impl PeriodicPast {
         memory: Memory,
         weights: Vec<f64>,
     ) -> Self {
+        let signal: &[f64] = if signal.is_empty() { &[0.0] } else { signal };
         let mut whole = vec![0.0; signal.len()];
         let theta = omega * dt;
         apply_factor(signal, &mut whole, |k| {
@@ -138,6 +139,17 @@ mod tests {
                     past.advance().unwrap();
                 }
             }
+        }
+    }
+
+    /// An empty signal is the zero signal: no past, nothing to fail on.
+    #[test]
+    fn an_empty_signal_has_no_past() {
+        let w = Scheme::Gl.weights(0.5, 4);
+        let mut past = PeriodicPast::new(&[], 1.0, 0.1, 0.5, Scheme::Gl, Memory::Fast, w);
+        for _ in 0..3 {
+            assert_eq!(past.tail().unwrap(), 0.0);
+            past.advance().unwrap();
         }
     }
 
