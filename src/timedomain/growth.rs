@@ -66,6 +66,8 @@ pub fn growth<M: Model>(
     start: &PeriodicStart,
     opts: &SimOptions,
 ) -> Result<Growth, Error> {
+    // The start first: nothing is planned or reserved for one that does not fit.
+    start.check(model.dofs().len())?;
     if start.dx.iter().chain(&start.dv).all(|&v| v == 0.0) {
         return Err(invalid(
             "periodic start",
@@ -75,7 +77,7 @@ pub fn growth<M: Model>(
     }
     // Two runs, each with its histories and as many for the solution's past.
     let RunPlan { period, dt, steps, bytes } = plan(model, omega, opts, 4.0)?;
-    let solution_period = period * start.period.max(1) as f64;
+    let solution_period = period * start.period as f64;
     let samples = (steps as f64 * dt / solution_period + 1e-9).floor() as usize;
     if samples < 6 {
         return Err(invalid(
@@ -84,7 +86,7 @@ pub fn growth<M: Model>(
             format!(
                 "at least {} here: 6 periods of the solution (it repeats every {} forcing \
                  periods)",
-                6 * start.period,
+                start.period.saturating_mul(6),
                 start.period
             ),
         ));

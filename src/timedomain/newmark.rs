@@ -133,7 +133,7 @@ impl PeriodicStart {
     }
 
     /// Refuse a start that does not fit `ndof` DOFs or is not finite.
-    fn check(&self, ndof: usize) -> Result<(), Error> {
+    pub(super) fn check(&self, ndof: usize) -> Result<(), Error> {
         let invalid = |what: &str, value: String, expected: String| Error::InvalidValue {
             what: what.into(),
             value,
