@@ -76,6 +76,15 @@ pub fn read(text: &str) -> Result<Checked, Vec<Diagnostic>> {
     Ok(Checked { def, analysis, name, equations })
 }
 
+/// Parse and check the tokens of one `oscillator!` invocation: exactly what the macro
+/// runs before it writes Rust, so that its compile errors (message and span) can be
+/// checked without starting a compiler.
+pub fn check_tokens(tokens: proc_macro2::TokenStream) -> syn::Result<(ModelDef, Analysis)> {
+    let def: ModelDef = syn::parse2(tokens)?;
+    let analysis = analyze::analyze(&def)?;
+    Ok((def, analysis))
+}
+
 /// Refuse nesting deeper than [`MAX_NESTING`] before the recursive parser sees it.
 fn nesting(text: &str) -> Result<(), Vec<Diagnostic>> {
     let mut depth = 0usize;

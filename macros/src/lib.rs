@@ -9,8 +9,6 @@
 
 mod codegen;
 
-use ihbm_dsl::{analyze, parse};
-
 use proc_macro::TokenStream;
 
 /// Declare an oscillator model: a struct with one `pub f64` field per parameter,
@@ -66,9 +64,8 @@ use proc_macro::TokenStream;
 /// so a user crate needs `ihbm` alone.
 #[proc_macro]
 pub fn oscillator(input: TokenStream) -> TokenStream {
-    let def = syn::parse_macro_input!(input as parse::ModelDef);
-    match analyze::analyze(&def) {
-        Ok(a) => codegen::generate(&def, &a).into(),
+    match ihbm_dsl::check_tokens(input.into()) {
+        Ok((def, a)) => codegen::generate(&def, &a).into(),
         Err(e) => e.to_compile_error().into(),
     }
 }
