@@ -171,7 +171,12 @@ impl Cli {
                 };
             }
         };
-        match commands::execute(&self.registry, parsed.command, out) {
+        // A write error of the last buffered line surfaces only at the flush: a full
+        // disk must fail the command, not pass for success.
+        let done = commands::execute(&self.registry, parsed.command, out).and_then(|()| {
+            out.flush().map_err(|e| Failure::failed(format!("writing to standard output: {e}")))
+        });
+        match done {
             Ok(()) => 0,
             Err(f) => {
                 let _ = writeln!(err, "error: {}", f.message.replace('\n', " "));

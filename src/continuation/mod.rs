@@ -425,8 +425,22 @@ fn check_range(what: &str, from: f64, to: f64) -> Result<()> {
             expected: "from < to".into(),
         });
     }
+    if to - from <= MIN_RELATIVE_WIDTH * from.abs().max(to.abs()) {
+        return Err(Error::InvalidValue {
+            what: what.into(),
+            value: format!("{from} .. {to}"),
+            expected: format!(
+                "a range wider than {MIN_RELATIVE_WIDTH:e} of its ends (events are located to 1e-8 relative; a narrower range holds nothing the continuation can resolve)"
+            ),
+        });
+    }
     Ok(())
 }
+
+/// The narrowest range a continuation accepts, relative to the larger of its ends: a
+/// range a few rounding units wide made the step controller pile its whole step
+/// budget (20 000 points) on it.
+pub const MIN_RELATIVE_WIDTH: f64 = 1e-9;
 
 fn check_options(o: &SweepOptions) -> Result<()> {
     crate::fourier::check_harmonics(o.harmonics)?;

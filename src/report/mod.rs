@@ -110,6 +110,11 @@ pub fn remove_stale_temporaries(dir: &Path) -> usize {
 /// file (or none) and at worst a `.ihbm-tmp` file, never a truncated `path`; a
 /// study removes such files left by killed runs ([`remove_stale_temporaries`]).
 ///
+/// A `path` that exists and is not a regular file (a device such as `/dev/stdout`, a
+/// named pipe) is written in place: renaming over it would replace the device by a
+/// file and report success while nothing reached it. Every write error then fails the
+/// call too (`/dev/full` gives "No space left on device").
+///
 /// ```
 /// let dir = std::env::temp_dir().join(format!("ihbm-doc-write-{}", std::process::id()));
 /// let path = dir.join("a/b.txt");
@@ -129,6 +134,14 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), Error> {
         if !dir.as_os_str().is_empty() {
             std::fs::create_dir_all(dir).map_err(io(dir))?;
         }
+    }
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        use std::io::Write as _;
+        return std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .and_then(|mut f| f.write_all(text.as_bytes()).and_then(|()| f.flush()))
+            .map_err(io(path));
     }
     let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
     tmp_name.push(format!(".{}{TMP_SUFFIX}", std::process::id()));

@@ -378,6 +378,50 @@ pub fn line_col(text: &str, at: usize) -> (usize, usize) {
     (line, col)
 }
 
+/// 1-based line and column where a TOML text nests deepest (brackets, braces and the
+/// dots of dotted keys and table headers, outside strings and comments), if it nests
+/// at all.
+fn deepest_nesting(text: &str) -> Option<(usize, usize)> {
+    let (mut depth, mut dots, mut best, mut at) = (0usize, 0usize, 0usize, None);
+    let (mut line, mut col) = (1usize, 0usize);
+    let (mut quote, mut comment, mut prev) = (None::<char>, false, '\n');
+    let mut chars = text.chars().peekable();
+    while let Some(ch) = chars.next() {
+        col += 1;
+        if ch == '\n' {
+            (line, col, dots, comment) = (line + 1, 0, 0, false);
+        } else if comment {
+        } else if let Some(q) = quote {
+            if ch == q {
+                quote = None;
+            } else if ch == '\\' && q == '"' {
+                chars.next();
+                col += 1;
+            }
+        } else {
+            match ch {
+                '"' | '\'' => quote = Some(ch),
+                '#' => comment = true,
+                '[' | '{' => depth += 1,
+                ']' | '}' => depth = depth.saturating_sub(1),
+                '=' => dots = 0,
+                // a dot between digits is a number's, not a key's
+                '.' if !(prev.is_ascii_digit()
+                    && chars.peek().is_some_and(char::is_ascii_digit)) =>
+                {
+                    dots += 1
+                }
+                _ => {}
+            }
+            if depth + dots > best {
+                (best, at) = (depth + dots, Some((line, col)));
+            }
+        }
+        prev = ch;
+    }
+    at
+}
+
 /// Parse a study; `file` names it in error messages (`file:line:col: message`).
 pub fn parse(text: &str, file: &str) -> Result<Study> {
     toml::from_str::<Study>(text)
@@ -388,7 +432,12 @@ pub fn parse(text: &str, file: &str) -> Result<Study> {
                     let (l, c) = line_col(text, span.start);
                     Error::Study(format!("{file}:{l}:{c}: {msg}"))
                 }
-                None => Error::Study(format!("{file}: {msg}")),
+                // The parser's recursion limit comes without a place: point at the
+                // deepest nesting, which is where it was passed.
+                None => match deepest_nesting(text) {
+                    Some((l, c)) => Error::Study(format!("{file}:{l}:{c}: {msg}")),
+                    None => Error::Study(format!("{file}: {msg}")),
+                },
             }
         })
         .map(|mut s| {

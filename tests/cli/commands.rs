@@ -212,11 +212,79 @@ fn bad_inputs_fail_with_a_reason() {
     assert_rejected(&["frobnicate"], &["frobnicate"]);
     assert_rejected(&[], &["no command"]);
     assert_rejected(&["run", "/definitely/not/here.toml"], &["/definitely/not/here.toml"]);
+    // a range one rounding unit wide holds nothing to trace (it once piled 20 002
+    // points on itself)
+    assert_rejected(
+        &["sweep", "duffing", "--from", "1", "--to", "1.0000000000000002"],
+        &["frequency", "wider than 1e-9"],
+    );
+    assert_rejected(
+        &[
+            "sweep-param",
+            "duffing",
+            "--param",
+            "F",
+            "--from",
+            "0.5",
+            "--to",
+            "0.5000000000000001",
+            "--omega",
+            "1",
+        ],
+        &["F", "wider than 1e-9"],
+    );
+}
+
+/// A full disk fails the command, whichever writer meets it, and a device named as the
+/// output is written, not replaced by a file (renaming a temporary file over
+/// `/dev/full` once turned it into a regular file and reported success).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_fails_every_writer() {
+    use std::os::unix::fs::FileTypeExt;
+    let full = std::path::Path::new("/dev/full");
+    let is_device = || std::fs::metadata(full).is_ok_and(|m| m.file_type().is_char_device());
+    if !is_device() {
+        eprintln!("no /dev/full device here: nothing to check");
+        return;
+    }
+    let sweep = ["sweep", "duffing", "--from", "0.5", "--to", "3"];
+    for flag in ["--json", "--csv", "--plot"] {
+        let mut args = sweep.to_vec();
+        args.extend([flag, "/dev/full"]);
+        assert_rejected(&args, &["/dev/full", "No space left"]);
+        assert!(is_device(), "{flag} /dev/full replaced the device");
+    }
+    for args in [
+        &["solve", "duffing", "--omega", "1", "--json"][..],
+        &["solve", "duffing", "--omega", "1"],
+        &sweep,
+    ] {
+        let device = std::fs::OpenOptions::new().write(true).open(full).unwrap();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_ihbm"))
+            .args(args)
+            .stdout(device)
+            .output()
+            .unwrap();
+        assert!(!o.status.success(), "{args:?} > /dev/full succeeded");
+        assert!(stderr(&o).contains("No space left"), "{args:?}: {}", stderr(&o));
+    }
 }
 
 #[test]
 fn malformed_study_files_name_file_line_and_column() {
-    let cases: [(&str, &[&str]); 7] = [
+    // deeper than the TOML parser's recursion limit, which reports no place itself
+    let deep_key = format!(
+        "model = \"quarter-car\"\nfrequency = {{ from = 1.0, to = 2.0 }}\n\n{} = 1\n",
+        ["a"; 100].join(".")
+    );
+    let deep_header = format!(
+        "model = \"quarter-car\"\nfrequency = {{ from = 1.0, to = 2.0 }}\n[{}]\nx = 1\n",
+        ["b"; 100].join(".")
+    );
+    let cases: [(&str, &[&str]); 9] = [
+        (&deep_key, &[":4:", "recursion"]),
+        (&deep_header, &[":3:", "recursion"]),
         ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 }\nbogus = 3\n", &[":3:1:", "bogus"]),
         ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = \"x\" }\n", &[":2:32:", "invalid type"]),
         ("model = \"quarter-car\"\nfrequency = { from = 1.0, to = 2.0 \n", &[":2:"]),
