@@ -307,6 +307,37 @@ pub struct Curve {
 }
 
 impl Curve {
+    /// Add the points, segments and events of `other`, a curve of the same run (model,
+    /// harmonics, parameter, outputs) traced separately — another branch — as further
+    /// segments of this one: segment and point indices are shifted, counters added.
+    pub fn append(&mut self, other: Curve) {
+        let (points, segments) = (self.points.len(), self.segments.len());
+        self.points.extend(other.points.into_iter().map(|mut p| {
+            p.segment += segments;
+            p
+        }));
+        self.segments.extend(other.segments);
+        self.folds.extend(other.folds.into_iter().map(|mut f| {
+            f.after += points;
+            f
+        }));
+        self.bifurcations.extend(other.bifurcations.into_iter().map(|mut b| {
+            b.after += points;
+            b
+        }));
+        self.jumps.extend(other.jumps);
+        self.stability_checked &= other.stability_checked;
+        let (s, o) = (&mut self.stats, other.stats);
+        s.steps += o.steps;
+        s.rejected_steps += o.rejected_steps;
+        s.corrector_iterations += o.corrector_iterations;
+        s.chord_steps += o.chord_steps;
+        s.folds += o.folds;
+        s.folds_unlocated += o.folds_unlocated;
+        s.stability_full += o.stability_full;
+        s.stability_unrefined += o.stability_unrefined;
+    }
+
     /// Every bifurcation in arc-length order: the folds (as [`BifurcationKind::Fold`])
     /// and the changes of stability.
     pub fn all_bifurcations(&self) -> Vec<Bifurcation> {

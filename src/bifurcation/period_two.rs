@@ -19,7 +19,7 @@ use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::linalg::DenseLu;
 use crate::model::Model;
-use crate::results::{BifurcationKind, Curve};
+use crate::results::{BifurcationKind, Curve, SegmentEnd};
 use faer::prelude::ReborrowMut;
 
 /// The largest even-harmonic content (relative to the odd) of a solution counted as
@@ -30,21 +30,24 @@ const SYMMETRIC: f64 = 1e-4;
 /// direction (of the largest coefficient of that solution).
 const SWITCH_STEP: f64 = 1e-3;
 
-/// A period-1 curve and the period-2 branch switched onto at its period doubling.
+/// A period-1 curve and the period-2 branches switched onto at its period doublings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodDoubled {
     /// The period-1 curve (`⌈N/2⌉` harmonics of Ω), with its stability.
     pub period_one: Curve,
-    /// The period-2 branch (`N` harmonics of Ω/2); Ω values are forcing frequencies,
+    /// The period-2 branches (`N` harmonics of Ω/2), one segment or more each, in the
+    /// order of the period doublings they start at; Ω values are forcing frequencies,
     /// coefficients are in the harmonics of Ω/2 (a balance with period 2).
     pub period_two: Curve,
-    /// The forcing frequency of the period doubling it was switched onto at.
-    pub switched_at: f64,
+    /// The forcing frequency of each period doubling a branch was switched onto at.
+    pub switched_at: Vec<f64>,
 }
 
-/// The period-2 branch of `model` for Ω from `from` to `to`: the period-1 curve is
-/// traced with `⌈N/2⌉` harmonics, and the branch starts at its first located
-/// period-doubling point; `opts.harmonics` counts harmonics of `Ω/2`.
+/// The period-2 branches of `model` for Ω from `from` to `to`: the period-1 curve is
+/// traced with `⌈N/2⌉` harmonics, and a branch starts at each of its located
+/// period-doubling points, except those where a branch already traced came back (a
+/// branch that rejoins the period-1 curve ends at the next doubling); `opts.harmonics`
+/// counts harmonics of `Ω/2`.
 ///
 /// Errors for bad input, and when the period-1 curve has no located period doubling
 /// in the range ([`Error::NoPeriodDoubling`]).
@@ -56,7 +59,7 @@ pub struct PeriodDoubled {
 /// let opts = SweepOptions { harmonics: 8, ..Default::default() };
 /// let both = period_two(&Quadratic::default(), 1.5, 2.6, &opts).unwrap();
 /// // the branch leaves the period-1 curve where it doubles its period
-/// assert!((both.period_two.points[0].omega - both.switched_at).abs() < 1e-4);
+/// assert!((both.period_two.points[0].omega - both.switched_at[0]).abs() < 1e-4);
 /// ```
 pub fn period_two<M: Model + Clone>(
     model: &M,
@@ -73,14 +76,58 @@ pub fn period_two<M: Model + Clone>(
         o1.stability = Some(Default::default());
     }
     let curve1 = continuation::sweep(model, from, to, &o1)?;
-    let Some(pd) =
-        curve1.bifurcations.iter().find(|b| b.kind == BifurcationKind::PeriodDoubling && b.located)
-    else {
+    let doublings: Vec<_> = curve1
+        .bifurcations
+        .iter()
+        .filter(|b| b.kind == BifurcationKind::PeriodDoubling && b.located)
+        .collect();
+    if doublings.is_empty() {
         return Err(Error::NoPeriodDoubling { from, to });
-    };
-    let omega_pd = pd.omega;
+    }
+    let mut branches: Option<Curve> = None;
+    let mut switched_at = Vec::new();
+    let mut rejoined_at: Vec<f64> = Vec::new();
+    for pd in doublings {
+        // The doubling where a traced branch came back starts that same branch again.
+        if rejoined_at.iter().any(|&w| (w - pd.omega).abs() <= REJOIN_GAP * pd.omega) {
+            continue;
+        }
+        let curve = branch_at(model, &curve1, pd.omega, pd.after, from, to, opts)?;
+        let last = curve.points.last().map(|p| p.omega);
+        for (seg, end) in curve.segments.iter().enumerate() {
+            if end.ended == SegmentEnd::Rejoined {
+                let at = curve.points.iter().rev().find(|p| p.segment == seg).map(|p| p.omega);
+                rejoined_at.extend(at.or(last));
+            }
+        }
+        switched_at.push(pd.omega);
+        match branches.as_mut() {
+            Some(all) => all.append(curve),
+            None => branches = Some(curve),
+        }
+    }
+    let period_two = branches.ok_or(Error::NoPeriodDoubling { from, to })?;
+    Ok(PeriodDoubled { period_one: curve1, period_two, switched_at })
+}
+
+/// How close (relative in Ω) the end of a rejoining branch comes to the doubling it
+/// rejoins at: the branch ends on the step that crosses back, within a step of it.
+const REJOIN_GAP: f64 = 1e-2;
+
+/// The period-2 branch that leaves `curve1` at its period doubling `omega_pd` (between
+/// points `after` and `after + 1`), traced in `[from, to]`, with forcing frequencies.
+fn branch_at<M: Model>(
+    model: &M,
+    curve1: &Curve,
+    omega_pd: f64,
+    after: usize,
+    from: f64,
+    to: f64,
+    opts: &SweepOptions,
+) -> Result<Curve> {
+    let (n2, n1) = (opts.harmonics, curve1.harmonics);
     // The period-1 solution at the point, from the nearest point of the curve.
-    let near = &curve1.points[pd.after];
+    let near = &curve1.points[after];
     let so = SolveOptions { harmonics: n1, ..Default::default() };
     let sol = corrector::solve(model, omega_pd, &so, Some(&near.coeffs))?;
     let ndof = model.dofs().len();
@@ -101,7 +148,7 @@ pub fn period_two<M: Model + Clone>(
         SWITCH_STEP,
     )?;
     double_frequencies(&mut curve);
-    Ok(PeriodDoubled { period_one: curve1, period_two: curve, switched_at: omega_pd })
+    Ok(curve)
 }
 
 /// Period-1 coefficients (`n1` harmonics of Ω) as coefficients in `n2` harmonics of

@@ -613,6 +613,48 @@ fn folds_writes_contract_json_csv_and_plot() {
 /// `sweep --period 2` (CONTRACT section 3): the JSON of `sweep` with `"period": 2`, Ω
 /// the forcing frequency, starting where the period-1 curve (traced separately) has
 /// its period doubling; bad periods and ranges without period doubling refused.
+/// x'' + 0.05x' + x + 0.5x² = 0.6 cos Ωt doubles its period at Ω = 1.87514 and
+/// 2.06687 (Floquet multipliers −1 of the period-1 curve). The branch born at the first
+/// runs away below 1.8; the one born at the second crosses Ω = 2 and must be traced too.
+#[test]
+fn sweep_period_two_follows_every_period_doubling() {
+    let o = ihbm(&[
+        "sweep",
+        "quadratic",
+        "--set",
+        "k2=0.5",
+        "--set",
+        "F=0.6",
+        "--from",
+        "1.8",
+        "--to",
+        "2.1",
+        "--period",
+        "2",
+        "--harmonics",
+        "8",
+        "--json",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let starts: Vec<f64> = v["segments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["from_omega"].as_f64().unwrap())
+        .collect();
+    assert_eq!(starts.len(), 2, "{}", v["segments"]);
+    for (start, pd) in starts.iter().zip([1.87514, 2.06687]) {
+        assert!((start - pd).abs() < 1e-5 * pd, "a branch starts at {start}, not at {pd}");
+    }
+    let omegas: Vec<f64> =
+        v["points"].as_array().unwrap().iter().map(|p| p["omega"].as_f64().unwrap()).collect();
+    // the first branch lies below 1.875: points on both sides of Ω = 2 are the second's
+    assert!(omegas.iter().any(|&w| (1.9..2.0).contains(&w)));
+    assert!(omegas.iter().any(|&w| (2.0..2.06).contains(&w)));
+}
+
 #[test]
 fn sweep_period_two_switches_at_the_period_doubling() {
     let o = ihbm(&[
