@@ -119,11 +119,18 @@ pub struct Continuation<'m, M: Model> {
     queue: VecDeque<Event>,
     /// Started by branch switching rather than at the range end.
     branch: Option<Branch>,
+    /// A parameter held at another value than the model's (index, value): the
+    /// frequency sweep that finds a parameter sweep's start.
+    fixed: Option<(usize, f64)>,
     // step buffers
     y: Vec<f64>,
     t: Vec<f64>,
     dirv: Vec<f64>,
 }
+
+/// How far from a parameter sweep's frequency the frequency trace that finds its start
+/// begins (a factor, above and then below).
+const ALONG_OMEGA: f64 = 4.0;
 
 impl<'m, M: Model> Continuation<'m, M> {
     /// A frequency sweep of `model` for Ω from `from` to `to` (rad/s), checked as
@@ -154,11 +161,26 @@ impl<'m, M: Model> Continuation<'m, M> {
         hi: f64,
         opts: &SweepOptions,
     ) -> Result<Self> {
+        Self::build(model, axis, lo, hi, opts, None)
+    }
+
+    /// [`Continuation::new`] with parameter `fixed.0` held at `fixed.1` throughout.
+    fn build(
+        model: &'m M,
+        axis: Axis,
+        lo: f64,
+        hi: f64,
+        opts: &SweepOptions,
+        fixed: Option<(usize, f64)>,
+    ) -> Result<Self> {
         let nh = opts.harmonics;
         // Sizes first (the harmonic balance's are checked by `Balance`): a count too
         // large for Hill's matrices is refused before the harmonic balance spends
         // minutes on it.
         let mut bal = Balance::with_period(model, nh, opts.period)?;
+        if let Some((index, value)) = fixed {
+            bal.set_param(index, value);
+        }
         if opts.stability.is_some() {
             crate::stability::check_size(model, nh)?;
         }
@@ -241,6 +263,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             state: State::Start(0),
             queue: VecDeque::new(),
             branch: None,
+            fixed,
             y: vec![0.0; n + 1],
             t: vec![0.0; n + 1],
             dirv: vec![0.0; n + 1],
@@ -359,7 +382,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let e_n = unit(n);
         let target = self.tr.scaled(lam);
         y[n] = target;
-        let guess = if self.tr.axis == Axis::Omega {
+        let guess = if self.tr.axis == Axis::Omega && self.fixed.is_none() {
             let so = crate::corrector::SolveOptions {
                 harmonics: self.opts.harmonics,
                 period: self.opts.period,
@@ -377,10 +400,44 @@ impl<'m, M: Model> Continuation<'m, M> {
             }
             // Linearised response: one Newton step from zero.
             None => {
-                self.tr.newton_step(&mut y, &e_n, target)?;
+                if let Err(why) = self.tr.newton_step(&mut y, &e_n, target) {
+                    return self.start_along_omega(lam, &mut y).ok_or(why);
+                }
             }
         }
-        self.tr.locate(&mut y, &e_n, target).map(|_| y)
+        match self.tr.locate(&mut y, &e_n, target) {
+            Ok(_) => Ok(y),
+            Err(why) => self.start_along_omega(lam, &mut y).ok_or(why),
+        }
+    }
+
+    /// A parameter sweep's start that Newton from the linearised response misses (a
+    /// point past a fold of the frequency curve, a resonance): the frequency curve at
+    /// the parameter value `lam`, traced from `ALONG_OMEGA` times the sweep's frequency
+    /// down to it (small, nearly linear responses up there), else from as far below
+    /// up to it, through any folds on the way; its point at the sweep's frequency,
+    /// corrected in the sweep's own coordinates, is the start. `None` on the
+    /// frequency axis, or when neither trace reaches the frequency.
+    fn start_along_omega(&mut self, lam: f64, y: &mut [f64]) -> Option<Vec<f64>> {
+        let Axis::Param { index, omega } = self.tr.axis else { return None };
+        let opts = SweepOptions { stability: None, convergence: None, ..self.opts.clone() };
+        let (n, target) = (self.tr.n, self.tr.scaled(lam));
+        for (lo, hi) in [(omega, ALONG_OMEGA * omega), (omega / ALONG_OMEGA, omega)] {
+            let Ok(c) = Self::build(self.model, Axis::Omega, lo, hi, &opts, Some((index, lam)))
+            else {
+                continue;
+            };
+            let curve = c.run(&mut ());
+            let Some(p) = curve.points.iter().find(|p| p.omega == omega) else { continue };
+            for (yi, ci) in y.iter_mut().zip(&p.coeffs) {
+                *yi = ci / self.tr.sa;
+            }
+            y[n] = target;
+            if self.tr.locate(y, &unit(n), target).is_ok() {
+                return Some(y.to_vec());
+            }
+        }
+        None
     }
 
     /// Start a branch by switching ([`Branch`]).

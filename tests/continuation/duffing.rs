@@ -238,6 +238,55 @@ fn parameter_continuation_in_force_amplitude() {
     }
 }
 
+/// Ends where Newton from the linearised response does not converge (a branch past
+/// a fold, a resonance) are started along Ω instead: at Ω = 1.2 the Duffing response to
+/// F = 0.5 is the one root of the amplitude equation there, on the branch the trace
+/// from F = 0.1 cannot reach (it turns back at the fold near F = 0.14); the fractional
+/// Duffing at Ω = 1 is found at p = 0 and followed to p = 2. Every point is on the
+/// amplitude equation (with its own F or p).
+#[test]
+fn parameter_sweeps_start_where_newton_from_rest_fails() {
+    let model = Duffing::default();
+    let (w, (m, c, k, k3)) = (1.2, (model.m, model.c, model.k, model.k3));
+    let curve = sweep_param(&model, "F", 0.1, 0.5, w, &one_harmonic_opts()).unwrap();
+    assert_eq!(curve.segments.len(), 2, "{:?}", curve.segments);
+    assert!(
+        curve.segments.iter().all(|s| s.ended == SegmentEnd::ReachedEnd),
+        "{:?}",
+        curve.segments
+    );
+    let amplitude = |p: &ihbm::results::CurvePoint| p.coeffs[1].hypot(p.coeffs[2]);
+    for p in &curve.points {
+        let eq = OneHarmonic { m, c, k, k3, h: 0.0, p: 0.0, f: p.param };
+        let r = eq.residual(w, amplitude(p));
+        assert!(r.abs() < 1e-10, "F = {}: residual {r:.2e}", p.param);
+    }
+    let at_end = OneHarmonic { m, c, k, k3, h: 0.0, p: 0.0, f: 0.5 }.amplitudes(w);
+    assert_eq!(at_end.len(), 1, "test setup: one response at F = 0.5, {at_end:?}");
+    let start = curve.points.iter().find(|p| p.segment == 1).unwrap();
+    assert_eq!(start.param, 0.5);
+    assert!((amplitude(start) - at_end[0]).abs() < 1e-8 * at_end[0]);
+
+    let frac = FractionalDuffing::default();
+    let curve = sweep_param(&frac, "p", 0.0, 2.0, 1.0, &one_harmonic_opts()).unwrap();
+    assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd, "{:?}", curve.segments);
+    let (first, last) = (curve.points[0].param, curve.points.last().unwrap().param);
+    assert_eq!((first, last), (0.0, 2.0));
+    for p in &curve.points {
+        let eq = OneHarmonic {
+            m: frac.m,
+            c: frac.c,
+            k: frac.k,
+            k3: frac.k3,
+            h: frac.h,
+            p: p.param,
+            f: frac.F,
+        };
+        let r = eq.residual(1.0, amplitude(p));
+        assert!(r.abs() < 1e-10, "p = {}: residual {r:.2e}", p.param);
+    }
+}
+
 #[test]
 fn bad_input_is_an_error_naming_the_value() {
     let model = Duffing::default();
