@@ -385,6 +385,7 @@ Examples:
   ihbm sweep-param fractional-duffing --param p --from 0.1 --to 1.9 --omega 1 --plot p.svg
 
 Output as for `sweep`; the curve's `parameter` names P. In the JSON every point and
-fold keeps `omega` (the fixed Ω) and adds `param` (the value of P); jumps' `omega`
-and segments' `from_omega`/`to_omega` are values of P. The CSV's first column is P.
+fold keeps `omega` (the fixed Ω) and adds `param` (the value of P); so do jumps,
+and segments add `from_param`/`to_param` (their `from_omega`/`to_omega` are the fixed
+Ω). The CSV's first column is P.
 A fractional order must stay inside [0, 2].";

@@ -45,10 +45,13 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 /// arrays keep exactly the contract's keys),
 /// and `convergence` when a harmonic-convergence study was run. For a parameter
 /// sweep (`parameter` not `"omega"`) every point and fold also carries `param`, the
-/// parameter's value (`omega` stays the fixed frequency); jumps' `omega` and
-/// segments' `from_omega`/`to_omega` are then parameter values.
+/// parameter's value (`omega` stays the fixed frequency); so do jumps (`param` where
+/// they happen) and segments (`from_param`/`to_param`, while `from_omega`/`to_omega`
+/// are the fixed frequency).
 pub fn sweep_json(c: &Curve) -> Value {
     let by_param = !c.parameter.is_omega();
+    // The fixed frequency of a parameter sweep (every point has it).
+    let fixed_omega = c.points.first().map(|p| p.omega);
     let points: Vec<Value> = c
         .points
         .iter()
@@ -80,16 +83,28 @@ pub fn sweep_json(c: &Curve) -> Value {
         .jumps
         .iter()
         .map(|j| {
-            json!({ "direction": j.direction, "omega": j.at, "output": j.output,
-                    "from": j.from, "to": j.to })
+            let mut v = json!({ "direction": j.direction, "omega": j.at, "output": j.output,
+                    "from": j.from, "to": j.to });
+            if by_param {
+                v["omega"] = json!(fixed_omega);
+                v["param"] = json!(j.at);
+            }
+            v
         })
         .collect();
     let segments: Vec<Value> = c
         .segments
         .iter()
         .map(|s| {
-            json!({ "from_omega": s.from, "to_omega": s.to,
-                    "ended": s.ended.to_string() })
+            let mut v = json!({ "from_omega": s.from, "to_omega": s.to,
+                    "ended": s.ended.to_string() });
+            if by_param {
+                v["from_omega"] = json!(fixed_omega);
+                v["to_omega"] = json!(fixed_omega);
+                v["from_param"] = json!(s.from);
+                v["to_param"] = json!(s.to);
+            }
+            v
         })
         .collect();
     let mut v = json!({

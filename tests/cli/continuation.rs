@@ -72,7 +72,9 @@ fn sweep_param_force_on_a_linear_oscillator_is_proportional() {
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs();
     assert!(close(first, 0.1) && close(last, 2.0), "{first} .. {last}");
     let seg = &v["segments"][0];
-    assert!(close(f(seg, "from_omega"), 0.1) && close(f(seg, "to_omega"), 2.0), "{seg}");
+    assert!(close(f(seg, "from_param"), 0.1) && close(f(seg, "to_param"), 2.0), "{seg}");
+    // the ends are values of F: `from_omega`/`to_omega` are the fixed frequency
+    assert!(f(seg, "from_omega") == 1.2 && f(seg, "to_omega") == 1.2, "{seg}");
     assert_eq!(seg["ended"], "reached end");
     assert!(v["folds"].as_array().unwrap().is_empty() && v["jumps"].as_array().unwrap().is_empty());
 
