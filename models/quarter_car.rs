@@ -1,5 +1,5 @@
 //! The quarter car of the reference paper (its eq. 4), dimensional, SI units, written
-//! in the DSL exactly as in CONTRACT section 1 (plus parameter docs for the units).
+//! in the DSL as the README and the book show it (plus parameter docs for the units).
 //!
 //! ```text
 //! m1 z1'' + k1 y + k3 y^3 + c y' + h D^p y = 0
@@ -7,7 +7,8 @@
 //! y = z1 - z2
 //! ```
 //! z1 is the body (sprung mass m1), z2 the wheel (m2); the road input is F cos Ωt.
-//! Defaults are the paper's Table 1 (see ERRATA.md for its slips).
+//! Defaults are the paper's Table 1 (the book's chapter "The method" lists the
+//! paper's slips).
 
 crate::oscillator! {
     /// Quarter-car suspension with a metal-rubber (fractional) element.

@@ -1,4 +1,5 @@
-//! The JSON documents of CONTRACT section 2, field for field and in that order.
+//! The JSON documents of the commands, field for field and in the order the book's
+//! chapter "Output reference" lists them.
 
 use crate::backbone::{Backbone, Cycle, CycleFamily, EventKind};
 use crate::bifurcation::{FoldCurves, FoldPoint};
@@ -41,8 +42,8 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
 /// `parameter`, `stats`, `bifurcations` and `stability_checked` (`false` when the
 /// sweep skipped stability, so that no point's `"stable": true` is taken for a
-/// verdict; extensions, after the contract's fields; the objects inside the contract's
-/// arrays keep exactly the contract's keys),
+/// verdict; these follow the first six, and the objects inside the arrays keep
+/// exactly the keys listed here),
 /// and `convergence` when a harmonic-convergence study was run. For a parameter
 /// sweep (`parameter` not `"omega"`) every point and fold also carries `param`, the
 /// parameter's value (`omega` stays the fixed frequency); so do jumps (`param` where
@@ -144,9 +145,9 @@ pub fn simulate_json(r: &SimRecord) -> Value {
     v
 }
 
-/// The JSON of `folds` (CONTRACT section 3): `{model, harmonics, parameter, curves:
+/// The JSON of `folds`: `{model, harmonics, parameter, curves:
 /// [{points: [{omega, value, outputs: {name: {max_abs}}}], ended}], cusps: [{omega,
-/// value, outputs}]}`, then the extensions `range`, `omega_range`, `start_folds`
+/// value, outputs}]}`, then `range`, `omega_range`, `start_folds`
 /// (folds found by the sweeps at the two ends of the range), `boundary` (`"fold"` or
 /// `"period doubling"`: what the curves follow) and `stats`; each curve
 /// adds `start` (`"from"` or `"to"`: the end its first fold was found at), each cusp
@@ -194,7 +195,7 @@ pub fn folds_json(f: &FoldCurves) -> Value {
     })
 }
 
-/// The JSON of `backbone` (CONTRACT section 3): `{model, harmonics, mode, points:
+/// The JSON of `backbone`: `{model, harmonics, mode, points:
 /// [{omega, damping, stable, outputs: {name: {max_abs, mean, amp1}}}]}`, each point
 /// also with `xi` (the artificial damping of `-ξ M ẋ`) and `amplitude` (the modal
 /// amplitude), and `output`, `to`, `linear` (the start's `omega` and `damping`),
@@ -237,7 +238,7 @@ pub fn backbone_json(b: &Backbone) -> Value {
     })
 }
 
-/// The JSON of `cycle` (CONTRACT section 3): `{model, harmonics, converged, omega,
+/// The JSON of `cycle`: `{model, harmonics, converged, omega,
 /// period, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`, and `mode`
 /// (the linearised mode it was followed from).
 pub fn cycle_json(c: &Cycle) -> Value {
