@@ -65,7 +65,7 @@ pub struct PointOutput {
 ///
 /// `Stable` means that no growing mode was found: the fractional Hill method sees
 /// exponentially growing perturbations, not algebraically decaying ones (book,
-/// chapter 5). Where no verdict exists the reason is kept.
+/// *Continuation, folds, jumps, stability*). Where no verdict exists the reason is kept.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Stability {
     /// Every Floquet exponent has a real part below the tolerance.
@@ -269,7 +269,7 @@ pub struct CurveStats {
     /// frozen-order value is listed, [`Floquet::refined`](crate::stability::Floquet::refined)
     /// `false`; the verdict then comes from counting the unstable roots of `det T`,
     /// [`Floquet::counted`](crate::stability::Floquet::counted)), or whose analysis
-    /// failed (reported unknown, with the reason). Book, chapter 5, *Its limits*.
+    /// failed (reported unknown, with the reason). Book, *Continuation, folds, jumps, stability*, *Its limits*.
     pub stability_unrefined: usize,
 }
 

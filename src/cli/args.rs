@@ -1,4 +1,4 @@
-//! The command line of CONTRACT section 2, as clap derive types.
+//! The command line, as clap derive types.
 
 use crate::continuation::{AmplitudeBound, Predictor};
 use crate::engine::settings::SweepSettings;
@@ -284,8 +284,8 @@ pub struct ContinuationArgs {
     /// Cap on accepted continuation steps [default: 20000].
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub max_steps: Option<usize>,
-    /// Skip Hill stability (faster): every point is reported stable and jumps may land
-    /// on unstable branches.
+    /// Skip Hill stability (faster): every point's `stable` is null (not checked) and
+    /// jumps may land on unstable branches.
     #[arg(long)]
     pub no_stability: bool,
     /// Harmonic convergence: rerun with N, N+2, ... (up to 25, or N+4) until peaks and

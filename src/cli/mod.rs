@@ -1,4 +1,4 @@
-//! The `ihbm` command line (CONTRACT section 2) and the [`Cli`] builder that gives a
+//! The `ihbm` command line and the [`Cli`] builder that gives a
 //! user crate the same command line for its own models.
 //!
 //! Exit status: 0 on success; 2 for bad input (unknown model or parameter, a value

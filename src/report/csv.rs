@@ -7,7 +7,7 @@ use crate::results::Curve;
 use std::fmt::Write;
 
 /// The CSV of a curve: a header, then one row per point in arc-length order
-/// (CONTRACT section 2). Numbers use Rust's shortest round-trip form. A parameter
+/// (the book's output reference). Numbers use Rust's shortest round-trip form. A parameter
 /// sweep's first column is the parameter (`curve.parameter`) and its values.
 ///
 /// ```

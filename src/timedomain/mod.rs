@@ -52,7 +52,7 @@
 //! let sim = simulate(&QuarterCar::default(), 8.0, &SimOptions { periods: 40, ..Default::default() }).unwrap();
 //! let z1 = &sim.outputs[0];
 //! assert_eq!(z1.name, "z1");
-//! // The linear closed form (ERRATA) gives |Z1/F| = 2.2973 at 8 rad/s; k3 is weak here.
+//! // The linear closed form gives |Z1/F| = 2.2973 at 8 rad/s; k3 is weak here.
 //! assert!((z1.max_abs / 0.01 - 2.2973).abs() < 0.01);
 //! ```
 
