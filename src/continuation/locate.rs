@@ -5,8 +5,8 @@
 
 use super::events::Event;
 use super::jumps::Landing;
-use super::stepper::{unit, Continuation};
-use super::tracer::dot;
+use super::stepper::{Continuation, StabilityChange};
+use super::tracer::{dot, unit};
 use crate::model::Model;
 use crate::results::{Fold, Jump};
 use crate::stability::{Hill, StabilityOptions};
@@ -123,12 +123,6 @@ impl CrossingSearch {
         }
         Narrowed::Further
     }
-}
-
-/// Where a change of stability was found, and whether the search converged.
-pub(super) struct StabilityChange {
-    pub y: Vec<f64>,
-    pub located: bool,
 }
 
 impl<M: Model> Continuation<'_, M> {

@@ -9,8 +9,7 @@
 //! located inside the step that crossed it before the next step is taken.
 
 use super::events::{Control, Event, Observer, Trace};
-use super::locate::StabilityChange;
-use super::tracer::{dot, Axis, Tracer};
+use super::tracer::{dot, unit, Axis, Tracer};
 use super::{AmplitudeBound, Predictor, SweepOptions};
 use crate::balance::Balance;
 use crate::error::Result;
@@ -782,9 +781,8 @@ impl<'m, M: Model> Continuation<'m, M> {
     }
 }
 
-/// The unit vector along the parameter axis (`n` coefficients, then the parameter).
-pub(super) fn unit(n: usize) -> Vec<f64> {
-    let mut e = vec![0.0; n + 1];
-    e[n] = 1.0;
-    e
+/// Where a change of stability was found, and whether the search converged.
+pub(super) struct StabilityChange {
+    pub y: Vec<f64>,
+    pub located: bool,
 }

@@ -433,3 +433,10 @@ pub(crate) fn unit_tangent(lu: &mut DenseLu, dim: usize) -> Vec<f64> {
     t.iter_mut().for_each(|v| *v /= norm);
     t
 }
+
+/// The unit vector along the parameter axis (`n` coefficients, then the parameter).
+pub(super) fn unit(n: usize) -> Vec<f64> {
+    let mut e = vec![0.0; n + 1];
+    e[n] = 1.0;
+    e
+}

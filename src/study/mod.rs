@@ -11,11 +11,13 @@
 //! ```
 
 pub mod claims;
+pub mod outcome;
 pub mod runner;
 pub mod spec;
 pub mod summary;
 
-pub use runner::{output_files, run, run_until, StudyOutcome};
+pub use outcome::StudyOutcome;
+pub use runner::{output_files, run, run_until};
 pub use spec::{parse, Study};
 
 /// The reference study of the quarter car (models/reference_study.toml), built in so

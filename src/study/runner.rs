@@ -2,6 +2,7 @@
 //! job (in parallel), then the files of every figure from whatever finished.
 
 use super::claims::{fmt_num, Member, TdRow};
+use super::outcome::StudyOutcome;
 use super::spec::{BackboneSpec, Study};
 use super::summary::{self, FigureResult, FoldMember};
 use crate::bifurcation::{FoldCurves, FoldEvent};
@@ -14,38 +15,10 @@ use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
 use crate::results::Curve;
 use crate::timedomain::CompareRow;
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
-
-/// What a study run produced.
-#[derive(Debug, Clone, Default)]
-pub struct StudyOutcome {
-    /// Files written, in order.
-    pub files: Vec<PathBuf>,
-    /// One line per failed part (curve, time-domain point, file).
-    pub failures: Vec<String>,
-    /// Wall time, s.
-    pub seconds: f64,
-    /// Compute time per figure id, s (summed over its jobs, so more than wall time
-    /// when jobs ran in parallel).
-    pub figure_seconds: Vec<(String, f64)>,
-    /// Whether the run was cut short ([`run_until`]'s flag was set).
-    pub interrupted: bool,
-    /// The parts an interruption left unfinished: not started, or stopped part way
-    /// (what they had computed is written).
-    pub unfinished: Vec<String>,
-}
-
-impl StudyOutcome {
-    /// Record the files and failures of `other` after ours.
-    fn append(&mut self, other: StudyOutcome) {
-        self.files.extend(other.files);
-        self.failures.extend(other.failures);
-        self.unfinished.extend(other.unfinished);
-    }
-}
 
 struct CurvePlan {
     label: String,

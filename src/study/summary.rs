@@ -2,7 +2,7 @@
 //! peaks and folds, and every failed part.
 
 use super::claims::{evaluate, Member, TdRow};
-use super::runner::StudyOutcome;
+use super::outcome::StudyOutcome;
 use super::spec::{FigureSpec, Study};
 use crate::backbone::{Backbone, EventKind};
 use crate::bifurcation::{Boundary, Cusp, FoldCurves, TurnKind};

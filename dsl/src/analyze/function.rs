@@ -10,12 +10,6 @@ use super::syntax::{show, strip};
 use super::tree::{Check, Func, Node};
 use syn::Expr;
 
-/// The list of coefficient functions, for messages.
-pub fn function_list() -> String {
-    let names: Vec<String> = Func::ALL.iter().map(|f| format!("`{}`", f.name())).collect();
-    format!("{} and `.powf(q)`", names.join(", "))
-}
-
 impl Lower<'_> {
     /// `f(arg)` (written `f(arg)` or `arg.f()`, the whole call `e`): `arg` must be a
     /// coefficient.
@@ -106,7 +100,7 @@ impl Lower<'_> {
                      `sin(k * omega * t)`",
                     show(e),
                     show(arg),
-                    function_list()
+                    Func::list()
                 ),
             );
         }
@@ -117,7 +111,7 @@ impl Lower<'_> {
                     "`{}` is not allowed: a function of forcing is not a sum of harmonics; \
                      {} apply to coefficients (parameters, literals, omega) only",
                     show(e),
-                    function_list()
+                    Func::list()
                 ),
             );
         }

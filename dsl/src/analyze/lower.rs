@@ -8,7 +8,6 @@
 use super::coeff::Atom;
 use super::diag::{err, Sp};
 use super::forcing::harmonic;
-use super::function::function_list;
 use super::linear::{Group, LinearReader};
 use super::scope::{Name, Scope};
 use super::syntax::{ident_of, mentions_t, negative_powi_exponent, powi_exponent, show, strip};
@@ -283,7 +282,7 @@ impl<'a> Lower<'a> {
                     "`.{name}(...)` is not allowed: DOF terms take only `.powi(k)` with an \
                      integer literal k >= 0 (which keeps the model polynomial); \
                      coefficients also take {}",
-                    function_list()
+                    Func::list()
                 ),
             ),
         }
@@ -316,7 +315,7 @@ impl<'a> Lower<'a> {
                     format!(
                         "unknown function `{fname}`: the functions are `D(e, n)`, forcing \
                          `cos(k * omega * t)` / `sin(k * omega * t)`, and {} of coefficients",
-                        function_list()
+                        Func::list()
                     ),
                 ),
             },

@@ -44,6 +44,12 @@ impl Func {
     pub const ALL: [Func; 7] =
         [Func::Sqrt, Func::Exp, Func::Ln, Func::Sin, Func::Cos, Func::Tan, Func::Abs];
 
+    /// The list of coefficient functions, for messages.
+    pub fn list() -> String {
+        let names: Vec<String> = Func::ALL.iter().map(|f| format!("`{}`", f.name())).collect();
+        format!("{} and `.powf(q)`", names.join(", "))
+    }
+
     /// Its name in the DSL (as a function `sqrt(e)` or a method `e.sqrt()`), which is
     /// also the method of `f64` and `DualNum` that computes it.
     pub fn name(self) -> &'static str {
