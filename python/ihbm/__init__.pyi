@@ -17,15 +17,15 @@ __all__ = [
 ]
 
 # A result as the command line's JSON gives it.
-Result = Dict[str, Any]
+_Result = Dict[str, Any]
 # `None`: a tqdm bar where tqdm is installed; `False`: none; or called as
 # `progress(points, value)` now and then while the run goes on.
-Progress = Union[None, Literal[False], Callable[[int, float], object]]
-Settings = Union[float, int, bool, str]
+_ProgressArg = Union[None, Literal[False], Callable[[int, float], object]]
+_Settings = Union[float, int, bool, str]
 
 class Interrupted(KeyboardInterrupt):
-    result: Result
-    def __init__(self, result: Result) -> None: ...
+    result: _Result
+    def __init__(self, result: _Result) -> None: ...
 
 class Curve(Dict[str, Any]):
     def to_dataframe(self) -> Any: ...
@@ -62,15 +62,15 @@ class Model:
         omega: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
-    ) -> Result: ...
+    ) -> _Result: ...
     def sweep(
         self,
         omega_from: float,
         omega_to: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
-        progress: Progress = None,
-        **settings: Settings,
+        progress: _ProgressArg = None,
+        **settings: _Settings,
     ) -> Curve: ...
     def sweep_param(
         self,
@@ -80,8 +80,8 @@ class Model:
         omega: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
-        progress: Progress = None,
-        **settings: Settings,
+        progress: _ProgressArg = None,
+        **settings: _Settings,
     ) -> Curve: ...
     def simulate(
         self,
@@ -90,7 +90,7 @@ class Model:
         dt: Optional[float] = None,
         scheme: Optional[Literal["bdf2", "gl"]] = None,
         set: Optional[Mapping[str, float]] = None,
-    ) -> Result: ...
+    ) -> _Result: ...
     def backbone(
         self,
         to: float,
@@ -98,7 +98,7 @@ class Model:
         output: Optional[str] = None,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
-    ) -> Result: ...
+    ) -> _Result: ...
     def folds(
         self,
         param: str,
@@ -109,15 +109,15 @@ class Model:
         harmonics: int = ...,
         boundary: Optional[Literal["fold", "period-doubling", "torus"]] = None,
         set: Optional[Mapping[str, float]] = None,
-        progress: Progress = None,
-        **settings: Settings,
-    ) -> Result: ...
+        progress: _ProgressArg = None,
+        **settings: _Settings,
+    ) -> _Result: ...
     def cycle(
         self,
         omega: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
-    ) -> Result: ...
+    ) -> _Result: ...
     def cycles(
         self,
         param: str,
@@ -126,4 +126,4 @@ class Model:
         omega: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
-    ) -> Result: ...
+    ) -> _Result: ...

@@ -1,7 +1,9 @@
 # The compiled module behind `ihbm` (private: use `ihbm.Model`).
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple, final
 
 import numpy.typing as npt
+
+__all__ = ["NativeModel", "builtin_names", "IhbmError", "DEFAULT_HARMONICS"]
 
 DEFAULT_HARMONICS: int
 
@@ -13,8 +15,9 @@ _SweepOut = Tuple[str, Dict[str, npt.NDArray[Any]], Optional[BaseException]]
 
 def builtin_names() -> List[str]: ...
 
+@final
 class NativeModel:
-    def __init__(self, text: str, origin: str) -> None: ...
+    def __new__(cls, text: str, origin: str) -> "NativeModel": ...
     @staticmethod
     def builtin(name: str) -> "NativeModel": ...
     @staticmethod

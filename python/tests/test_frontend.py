@@ -5,10 +5,10 @@ oscillator), never against values copied from ihbm's own output."""
 
 import _thread
 import ast
-import cmath
 import inspect
 import math
 import pathlib
+import subprocess
 import sys
 import threading
 
@@ -123,6 +123,14 @@ def test_the_native_module_has_stubs_too_and_the_package_is_typed():
         attr = getattr(ihbm._native.NativeModel, name)
         if callable(attr) and not isinstance(inspect.getattr_static(ihbm._native.NativeModel, name), staticmethod):
             assert stub_params(stubs[name])[1:] == runtime_params(attr, True), name
+
+
+def test_mypy_stubtest_finds_the_stubs_consistent_with_the_module(tmp_path):
+    # mypy's own check: every runtime name, argument and default against the stubs.
+    pytest.importorskip("mypy.stubtest")
+    run = subprocess.run([sys.executable, "-m", "mypy.stubtest", "ihbm"], cwd=tmp_path,
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
 
 
 # --- columns ---------------------------------------------------------------------
