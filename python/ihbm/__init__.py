@@ -36,7 +36,8 @@ __all__ = [
 class Interrupted(KeyboardInterrupt):
     """Ctrl-C (or another ``KeyboardInterrupt``) stopped a sweep or a fold analysis.
     :attr:`result` is what was traced until then, as the call would have returned it:
-    its last segment (or fold curve) ends ``"stopped"``."""
+    its last segment (or fold curve) ends ``"stopped"``, unless Ctrl-C came as the run
+    was finishing and the result is whole."""
 
     def __init__(self, result):
         super().__init__("interrupted; the result traced so far is in .result")

@@ -99,8 +99,11 @@ impl Watch {
     }
 
     /// The exception that stopped the run, as a Python object (`None` if none did).
+    /// A Ctrl-C after the last check counts too: the whole result then goes with it
+    /// instead of being lost to a `KeyboardInterrupt` raised after the call.
     fn stopped_by(self, py: Python<'_>) -> Option<Py<PyAny>> {
-        self.stopped_by.map(|e| e.into_value(py).into_any())
+        let late = || py.check_signals().err();
+        self.stopped_by.or_else(late).map(|e| e.into_value(py).into_any())
     }
 }
 
