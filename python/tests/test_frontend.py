@@ -345,3 +345,22 @@ def test_errors_name_the_python_keywords_not_command_line_flags():
         with pytest.raises(ihbm.IhbmError, match=message) as info:
             call()
         assert "--" not in str(info.value)
+
+
+# --- the README ------------------------------------------------------------------
+
+def test_the_readmes_first_curves_run(tmp_path, monkeypatch, plt):
+    import re
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    blocks = re.findall(r"```python\n(.*?)```", (root / "python" / "README.md").read_text(), re.S)
+    # the Ctrl-C example is a deliberately long sweep
+    runnable = [b for b in blocks if "Interrupted" not in b]
+    assert len(runnable) == 2
+    (tmp_path / "examples").symlink_to(root / "examples")
+    monkeypatch.chdir(tmp_path)
+    ns = {}
+    for b in runnable:
+        exec(b, ns)
+    assert (tmp_path / "quarter_car.png").stat().st_size > 10_000
+    assert isinstance(ns["curve"], ihbm.Curve)
