@@ -2,20 +2,29 @@
 //!
 //! Each analysis returns the JSON text the command line writes (the same
 //! `ihbm::report` functions), which the pure-Python layer (`ihbm/__init__.py`) turns
-//! into dicts and NumPy columns. Continuation settings arrive as a JSON object and are
-//! read by the same `serde` definitions as a study file's `sweep` table, so unknown
-//! keys and bad values get the study's messages. Every computation runs with the GIL
-//! released. Errors are `ihbm.IhbmError` with the library's message.
+//! into dicts; a sweep also returns its columns as NumPy arrays built here from the
+//! curve's points. Continuation settings arrive as a JSON object and are read by the
+//! same `serde` definitions as a study file's `sweep` table. The engine's checks name
+//! arguments by their Python keywords ([`PY_NAMES`]). Every computation runs with the
+//! GIL released; continuations re-acquire it now and then to report progress and to
+//! let Ctrl-C stop them ([`Watch`]). Errors are `ihbm.IhbmError` with the library's
+//! message.
 
 use ihbm::backbone::FamilyOptions;
 use ihbm::bifurcation::Boundary;
+use ihbm::bifurcation::{FoldCurves, FoldEvent};
+use ihbm::continuation::{Control, Event, Observer, Trace};
 use ihbm::engine::registry::{AnyModel, Registered, Registry};
 use ihbm::engine::{
-    BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings, SweepSettings,
+    self, ArgNames, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
+    SweepSettings,
 };
+use ihbm::results::Curve;
 use ihbm::runtime::RuntimeModel;
 use ihbm::{report, Cli, Error};
 use pyo3::prelude::*;
+use pyo3::types::{PyByteArray, PyDict};
+use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
     _native,
@@ -26,6 +35,138 @@ pyo3::create_exception!(
 
 fn py_err(e: Error) -> PyErr {
     IhbmError::new_err(e.to_string())
+}
+
+/// A continuation setting is named by its key, which is also its Python keyword.
+fn keyword_name(key: &str) -> String {
+    key.to_string()
+}
+
+/// The names the engine's checks use in messages: the keywords of `ihbm.Model`'s
+/// methods, not the command line's flags.
+const PY_NAMES: ArgNames = ArgNames {
+    from: "omega_from",
+    to: "omega_to",
+    omega: "omega",
+    omega_from: "omega_from",
+    omega_to: "omega_to",
+    setting: keyword_name,
+};
+
+/// How often a running continuation takes the GIL back: often enough that Ctrl-C
+/// feels immediate, rarely enough that other Python threads are not slowed.
+const CHECK_EVERY: Duration = Duration::from_millis(50);
+
+/// Watches a continuation running without the GIL: every [`CHECK_EVERY`] it takes the
+/// GIL to run Python's signal handlers (Ctrl-C raises `KeyboardInterrupt` there) and
+/// to call the progress callback `(points, value)`. The first exception either raises
+/// stops the run; it is kept so that the caller gets the partial result with it.
+struct Watch {
+    progress: Option<Py<PyAny>>,
+    last: Option<Instant>,
+    stopped_by: Option<PyErr>,
+}
+
+impl Watch {
+    fn new(progress: Option<Py<PyAny>>) -> Self {
+        Watch { progress, last: None, stopped_by: None }
+    }
+
+    /// `points` traced so far, the last at parameter `value`.
+    fn check(&mut self, points: usize, value: f64) -> Control {
+        if self.stopped_by.is_some() {
+            return Control::Stop;
+        }
+        // The first event is checked at once, so a pending Ctrl-C stops the run early.
+        if self.last.is_some_and(|t| t.elapsed() < CHECK_EVERY) {
+            return Control::Continue;
+        }
+        self.last = Some(Instant::now());
+        let result = Python::attach(|py| {
+            py.check_signals()?;
+            if let Some(f) = &self.progress {
+                f.call1(py, (points, value))?;
+            }
+            Ok::<_, PyErr>(())
+        });
+        match result {
+            Ok(()) => Control::Continue,
+            Err(e) => {
+                self.stopped_by = Some(e);
+                Control::Stop
+            }
+        }
+    }
+
+    /// The exception that stopped the run, as a Python object (`None` if none did).
+    /// A Ctrl-C after the last check counts too: the whole result then goes with it
+    /// instead of being lost to a `KeyboardInterrupt` raised after the call.
+    fn stopped_by(self, py: Python<'_>) -> Option<Py<PyAny>> {
+        let late = || py.check_signals().err();
+        self.stopped_by.or_else(late).map(|e| e.into_value(py).into_any())
+    }
+}
+
+impl Observer for Watch {
+    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
+        let value = match *event {
+            Event::Point(i) => trace.points.get(i).map_or(f64::NAN, |p| p.param),
+            _ => trace.points.last().map_or(f64::NAN, |p| p.param),
+        };
+        self.check(trace.points.len(), value)
+    }
+}
+
+/// A NumPy array of `values`, made by NumPy from their bytes (`dtype` is the NumPy
+/// name of `T`, native byte order as `to_ne_bytes` writes it).
+fn array<'py, const B: usize>(
+    np: &Bound<'py, PyModule>,
+    values: impl Iterator<Item = [u8; B]>,
+    dtype: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let bytes: Vec<u8> = values.flatten().collect();
+    // A bytearray, not bytes: the array over it is writable without another copy.
+    let buffer = PyByteArray::new(np.py(), &bytes);
+    np.call_method1("frombuffer", (buffer, dtype))
+}
+
+/// A curve's columns, named as its CSV's (the parameter, `stable` as 1.0, 0.0 or NaN
+/// where there is no verdict, `{output}_{max_abs,mean,amp1}`) and then `segment`,
+/// the index of the piece of the curve (`segments` in the JSON) each point belongs to.
+fn curve_columns<'py>(py: Python<'py>, c: &Curve) -> PyResult<Bound<'py, PyDict>> {
+    let np = py.import("numpy")?;
+    let cols = PyDict::new(py);
+    let by_param = !c.parameter.is_omega();
+    let f = |g: &dyn Fn(&ihbm::results::CurvePoint) -> f64| {
+        array(&np, c.points.iter().map(|p| g(p).to_ne_bytes()), "float64")
+    };
+    cols.set_item(c.parameter.name(), f(&|p| if by_param { p.param } else { p.omega })?)?;
+    let verdict = |p: &ihbm::results::CurvePoint| match p.stability.verdict() {
+        Some(true) => 1.0,
+        Some(false) => 0.0,
+        None => f64::NAN,
+    };
+    cols.set_item("stable", f(&verdict)?)?;
+    for (k, name) in c.output_names.iter().enumerate() {
+        let out = |p: &ihbm::results::CurvePoint, g: fn(&ihbm::results::PointOutput) -> f64| {
+            p.outputs.get(k).map_or(f64::NAN, g)
+        };
+        cols.set_item(format!("{name}_max_abs"), f(&|p| out(p, |o| o.max_abs))?)?;
+        cols.set_item(format!("{name}_mean"), f(&|p| out(p, |o| o.mean))?)?;
+        cols.set_item(format!("{name}_amp1"), f(&|p| out(p, |o| o.amp1))?)?;
+    }
+    // Segment indices are small; i64 is NumPy's default integer.
+    let segment = c.points.iter().map(|p| i64::try_from(p.segment).unwrap_or(i64::MAX));
+    cols.set_item("segment", array(&np, segment.map(i64::to_ne_bytes), "int64")?)?;
+    Ok(cols)
+}
+
+/// What a sweep returns to the Python layer: the sweep JSON, the columns, and the
+/// exception that stopped it early (Ctrl-C, or the progress callback's), if any.
+type SweepOut<'py> = (String, Bound<'py, PyDict>, Option<Py<PyAny>>);
+
+fn sweep_out<'py>(py: Python<'py>, curve: &Curve, watch: Watch) -> PyResult<SweepOut<'py>> {
+    Ok((json_text(&report::sweep_json(curve)), curve_columns(py, curve)?, watch.stopped_by(py)))
 }
 
 /// A model: built in, read from a model file, or from text.
@@ -49,17 +190,11 @@ fn json_text(v: &serde_json::Value) -> String {
     v.to_string()
 }
 
-/// A curve's sweep JSON and its CSV (whose columns the Python layer turns into NumPy
-/// arrays, so their names have one source).
-fn curve_texts(curve: &ihbm::results::Curve) -> (String, String) {
-    (json_text(&report::sweep_json(curve)), report::curve_csv(curve))
-}
-
-/// Continuation settings from a JSON object (the study file's `sweep` keys).
+/// Continuation settings from a JSON object (the study file's `sweep` keys, which are
+/// the Python keywords); their values are checked by the engine with the rest.
 fn sweep_settings(harmonics: usize, settings: &str) -> PyResult<SweepSettings> {
     let s: SweepSettings = serde_json::from_str(settings)
         .map_err(|e| IhbmError::new_err(format!("invalid continuation settings: {e}")))?;
-    s.options().map_err(|e| IhbmError::new_err(e.study()))?;
     Ok(SweepSettings { harmonics, ..s })
 }
 
@@ -142,27 +277,34 @@ impl NativeModel {
         Ok(json_text(&report::solve_json(&rec)))
     }
 
-    /// The sweep JSON and CSV of a frequency sweep.
-    fn sweep(
+    /// The sweep JSON, the columns and what stopped it early, of a frequency sweep.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (omega_from, omega_to, harmonics, set, settings, progress=None))]
+    fn sweep<'py>(
         &self,
-        py: Python<'_>,
+        py: Python<'py>,
         omega_from: f64,
         omega_to: f64,
         harmonics: usize,
         set: Vec<(String, f64)>,
         settings: &str,
-    ) -> PyResult<(String, String)> {
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<SweepOut<'py>> {
         let m = self.configured(&set)?;
         let s = sweep_settings(harmonics, settings)?;
-        let curve = py.detach(|| m.sweep(omega_from, omega_to, &s, &mut ())).map_err(py_err)?;
-        Ok(curve_texts(&curve))
+        // The engine checks again inside; this run of its checks names the keywords.
+        engine::sweep_options(&PY_NAMES, omega_from, omega_to, &s).map_err(py_err)?;
+        let mut watch = Watch::new(progress);
+        let curve = py.detach(|| m.sweep(omega_from, omega_to, &s, &mut watch)).map_err(py_err)?;
+        sweep_out(py, &curve, watch)
     }
 
-    /// The sweep JSON and CSV of a parameter sweep at fixed Ω.
+    /// As `sweep`, for a parameter sweep at fixed Ω.
     #[allow(clippy::too_many_arguments)]
-    fn sweep_param(
+    #[pyo3(signature = (param, value_from, value_to, omega, harmonics, set, settings, progress=None))]
+    fn sweep_param<'py>(
         &self,
-        py: Python<'_>,
+        py: Python<'py>,
         param: &str,
         value_from: f64,
         value_to: f64,
@@ -170,12 +312,15 @@ impl NativeModel {
         harmonics: usize,
         set: Vec<(String, f64)>,
         settings: &str,
-    ) -> PyResult<(String, String)> {
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<SweepOut<'py>> {
         let m = self.configured(&set)?;
         let s = sweep_settings(harmonics, settings)?;
+        engine::sweep_param_options(&PY_NAMES, omega, &s).map_err(py_err)?;
         let r = ParamRange { param, from: value_from, to: value_to, omega };
-        let curve = py.detach(|| m.sweep_param(&r, &s, &mut ())).map_err(py_err)?;
-        Ok(curve_texts(&curve))
+        let mut watch = Watch::new(progress);
+        let curve = py.detach(|| m.sweep_param(&r, &s, &mut watch)).map_err(py_err)?;
+        sweep_out(py, &curve, watch)
     }
 
     /// The simulate JSON: time integration from rest.
@@ -219,9 +364,9 @@ impl NativeModel {
 
     /// The folds JSON: every fold (or period-doubling / torus point, `boundary`) of the
     /// Ω-curve over `omega_from..omega_to` continued in `param` from `value_from` to
-    /// `value_to`, with the cusps.
+    /// `value_to`, with the cusps; and the exception that stopped it early, if any.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (param, value_from, value_to, omega_from, omega_to, harmonics, set, settings, boundary=None))]
+    #[pyo3(signature = (param, value_from, value_to, omega_from, omega_to, harmonics, set, settings, boundary=None, progress=None))]
     fn folds(
         &self,
         py: Python<'_>,
@@ -234,9 +379,11 @@ impl NativeModel {
         set: Vec<(String, f64)>,
         settings: &str,
         boundary: Option<&str>,
-    ) -> PyResult<String> {
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<(String, Option<Py<PyAny>>)> {
         let m = self.configured(&set)?;
         let s = sweep_settings(harmonics, settings)?;
+        engine::fold_options(&PY_NAMES, (omega_from, omega_to), &s).map_err(py_err)?;
         let boundary: Boundary = match boundary {
             None => Boundary::default(),
             Some(b) => keyword(b, "boundary")?,
@@ -248,10 +395,14 @@ impl NativeModel {
             omega: (omega_from, omega_to),
             boundary,
         };
-        let f = py
-            .detach(|| m.fold_curves(&r, &s, &mut |_, _| ihbm::continuation::Control::Continue))
-            .map_err(py_err)?;
-        Ok(json_text(&report::folds_json(&f)))
+        let mut watch = Watch::new(progress);
+        let mut observe = |_: &FoldEvent, f: &FoldCurves| {
+            let points = f.curves.iter().map(|c| c.points.len()).sum();
+            let value = f.curves.iter().rev().find_map(|c| c.points.last()).map(|p| p.value);
+            watch.check(points, value.unwrap_or(f64::NAN))
+        };
+        let f = py.detach(|| m.fold_curves(&r, &s, &mut observe)).map_err(py_err)?;
+        Ok((json_text(&report::folds_json(&f)), watch.stopped_by(py)))
     }
 
     /// The cycle JSON: a limit cycle of an autonomous model near the frequency `omega`.

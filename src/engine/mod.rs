@@ -7,7 +7,7 @@
 use crate::backbone::{Backbone, BackboneEnd, BackboneOptions};
 use crate::balance::Balance;
 use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
-use crate::continuation::{self, Observer};
+use crate::continuation::{self, Observer, SweepOptions};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -76,6 +76,73 @@ pub fn check_omega(what: &str, omega: f64) -> Result<()> {
             expected: "a finite frequency > 0 rad/s".into(),
         })
     }
+}
+
+/// How a front end names the arguments the engine checks, so that a message names
+/// what its user typed: the command line's flags ([`ArgNames::CLI`]) or, say, Python
+/// keywords (`omega_from`).
+#[derive(Debug, Clone, Copy)]
+pub struct ArgNames {
+    /// The start of a frequency sweep.
+    pub from: &'static str,
+    /// The end of a frequency sweep.
+    pub to: &'static str,
+    /// The fixed frequency of a parameter sweep.
+    pub omega: &'static str,
+    /// The start of a fold analysis's frequency range.
+    pub omega_from: &'static str,
+    /// The end of a fold analysis's frequency range.
+    pub omega_to: &'static str,
+    /// A continuation setting, from its study-file key (`max_step`).
+    pub setting: fn(&str) -> String,
+}
+
+impl ArgNames {
+    /// The command line's flags (`--from`, `--max-step`).
+    pub const CLI: ArgNames = ArgNames {
+        from: "--from",
+        to: "--to",
+        omega: "--omega",
+        omega_from: "--omega-from",
+        omega_to: "--omega-to",
+        setting: settings::flag,
+    };
+}
+
+/// The checks of a frequency sweep ([`sweep`], [`sweep_period_two`],
+/// [`sweep_break_symmetry`]) with the caller's names, and the solver's options.
+pub fn sweep_options(
+    names: &ArgNames,
+    from: f64,
+    to: f64,
+    s: &SweepSettings,
+) -> Result<SweepOptions> {
+    check_omega(names.from, from)?;
+    check_omega(names.to, to)?;
+    s.options().map_err(|e| e.named(names.setting))
+}
+
+/// The checks of a parameter sweep at `omega` ([`sweep_param`]) with the caller's
+/// names, and the solver's options.
+pub fn sweep_param_options(
+    names: &ArgNames,
+    omega: f64,
+    s: &SweepSettings,
+) -> Result<SweepOptions> {
+    check_omega(names.omega, omega)?;
+    s.options().map_err(|e| e.named(names.setting))
+}
+
+/// The checks of a fold analysis over the frequency range `omega`
+/// ([`fold_curves`]) with the caller's names, and the solver's options.
+pub fn fold_options(
+    names: &ArgNames,
+    omega: (f64, f64),
+    s: &SweepSettings,
+) -> Result<SweepOptions> {
+    check_omega(names.omega_from, omega.0)?;
+    check_omega(names.omega_to, omega.1)?;
+    s.options().map_err(|e| e.named(names.setting))
 }
 
 /// Solve at one frequency from the linearized guess. A Newton failure is not an error
@@ -152,9 +219,7 @@ pub fn sweep<M: Model>(
     s: &SweepSettings,
     observer: &mut dyn Observer,
 ) -> Result<Curve> {
-    check_omega("--from", from)?;
-    check_omega("--to", to)?;
-    let opts = s.options().map_err(|e| e.cli())?;
+    let opts = sweep_options(&ArgNames::CLI, from, to, s)?;
     let mut curve = continuation::sweep_with(model, from, to, &opts, observer)?;
     curve.model = name.to_string();
     Ok(curve)
@@ -170,9 +235,7 @@ pub fn sweep_period_two<M: Model + Clone>(
     to: f64,
     s: &SweepSettings,
 ) -> Result<bifurcation::PeriodDoubled> {
-    check_omega("--from", from)?;
-    check_omega("--to", to)?;
-    let opts = s.options().map_err(|e| e.cli())?;
+    let opts = sweep_options(&ArgNames::CLI, from, to, s)?;
     let mut both = bifurcation::period_two(model, from, to, &opts)?;
     both.period_one.model = name.to_string();
     both.period_two.model = name.to_string();
@@ -188,9 +251,7 @@ pub fn sweep_break_symmetry<M: Model + Clone>(
     to: f64,
     s: &SweepSettings,
 ) -> Result<bifurcation::SymmetryBroken> {
-    check_omega("--from", from)?;
-    check_omega("--to", to)?;
-    let opts = s.options().map_err(|e| e.cli())?;
+    let opts = sweep_options(&ArgNames::CLI, from, to, s)?;
     let mut both = bifurcation::break_symmetry(model, from, to, &opts)?;
     both.symmetric.model = name.to_string();
     both.broken.model = name.to_string();
@@ -220,8 +281,7 @@ pub fn sweep_param<M: Model>(
     observer: &mut dyn Observer,
 ) -> Result<Curve> {
     let ParamRange { param, from, to, omega } = *r;
-    check_omega("--omega", omega)?;
-    let opts = s.options().map_err(|e| e.cli())?;
+    let opts = sweep_param_options(&ArgNames::CLI, omega, s)?;
     let mut curve = continuation::sweep_param_with(model, param, from, to, omega, &opts, observer)?;
     curve.model = name.to_string();
     Ok(curve)
@@ -253,10 +313,9 @@ pub fn fold_curves<M: Model + Clone>(
     observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> continuation::Control,
 ) -> Result<FoldCurves> {
     let FoldRange { param, from, to, omega, boundary } = *r;
-    check_omega("--omega-from", omega.0)?;
-    check_omega("--omega-to", omega.1)?;
+    let sweep = fold_options(&ArgNames::CLI, omega, s)?;
     let index = model.param_index(param)?;
-    let opts = FoldCurveOptions { boundary, sweep: s.options().map_err(|e| e.cli())?, omega };
+    let opts = FoldCurveOptions { boundary, sweep, omega };
     let mut res = bifurcation::fold_curves_with(model, index, from, to, &opts, observer)?;
     res.model = name.to_string();
     Ok(res)

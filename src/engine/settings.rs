@@ -95,10 +95,16 @@ impl SettingError {
 
     /// The error as the command line reports it (`invalid --max-step: ...`).
     pub fn cli(&self) -> Error {
+        self.named(flag)
+    }
+
+    /// The error with every setting named by `name` (from its study-file key): `flag`
+    /// for the command line, the key itself for Python's keywords.
+    pub fn named(&self, name: fn(&str) -> String) -> Error {
         Error::InvalidValue {
-            what: self.flag(),
+            what: name(self.key),
             value: self.value.clone(),
-            expected: self.expected_with(flag),
+            expected: self.expected_with(name),
         }
     }
 
@@ -251,5 +257,16 @@ mod tests {
         assert_eq!(e.flag(), "--max-steps");
         let e = SweepSettings { converge: Some(f64::NAN), ..Default::default() }.options();
         assert_eq!(e.unwrap_err().flag(), "--converge");
+    }
+
+    #[test]
+    fn a_front_end_names_the_settings_its_own_way() {
+        let bad = SweepSettings { min_step: Some(0.5), max_step: Some(0.1), ..Default::default() };
+        let e = bad.options().unwrap_err();
+        assert_eq!(
+            e.named(|k| k.to_string()).to_string(),
+            "invalid min_step: 0.5 (expected at most max_step (0.1))"
+        );
+        assert_eq!(e.named(flag).to_string(), e.cli().to_string());
     }
 }
