@@ -100,7 +100,8 @@ def _sweep(ax, c, output, label):
     for j in c["jumps"]:
         if j["output"] != output:
             continue
-        ax.plot([j["omega"], j["omega"]], [j["from"], j["to"]], linestyle=":", color=color,
+        at = j["param"] if by_param else j["omega"]
+        ax.plot([at, at], [j["from"], j["to"]], linestyle=":", color=color,
                 marker="^" if j["direction"] == "up" else "v", markevery=[1], gid="jump")
     ax.set_xlabel("Ω (rad/s)" if not by_param else param)
     ax.set_ylabel(f"max |{output}|")
