@@ -263,12 +263,12 @@ pub struct CurveStats {
     /// Folds among them whose location did not converge ([`Fold::located`] `false`).
     pub folds_unlocated: usize,
     /// Points whose stability came from a full Hill analysis; the others were tracked
-    /// from their neighbour ([`Hill::track`](crate::stability::Hill::track)).
+    /// from their neighbour (`stability::Hill::track`).
     pub stability_full: usize,
     /// Points where a fractional exponent did not refine to a root of its own (its
-    /// frozen-order value is listed, [`Floquet::refined`](crate::stability::Floquet::refined)
+    /// frozen-order value is listed, `stability::Floquet::refined`
     /// `false`; the verdict then comes from counting the unstable roots of `det T`,
-    /// [`Floquet::counted`](crate::stability::Floquet::counted)), or whose analysis
+    /// `stability::Floquet::counted`), or whose analysis
     /// failed (reported unknown, with the reason). Book, *Continuation, folds, jumps, stability*, *Its limits*.
     pub stability_unrefined: usize,
 }
@@ -375,34 +375,10 @@ pub enum BifurcationKind {
     /// quasi-periodic response).
     Torus,
     /// The verdict changes, and the unstable side's was counted
-    /// ([`Floquet::counted`](crate::stability::Floquet::counted)): no exponent shows the
+    /// (`stability::Floquet::counted`): no exponent shows the
     /// root that crossed, so which of the above it is is not known (nor is it located:
     /// [`Bifurcation::located`] is `false`).
     StabilityChange,
-}
-
-impl BifurcationKind {
-    /// The kind of a change of stability off a fold, from how the unstable side's
-    /// leading exponent lies ([`Floquet::leading_crossing`](crate::stability::Floquet::leading_crossing));
-    /// `None` where no exponent shows the root that crossed (a counted verdict):
-    /// [`BifurcationKind::StabilityChange`].
-    ///
-    /// ```
-    /// use ihbm::results::BifurcationKind;
-    /// use ihbm::stability::Crossing;
-    ///
-    /// assert_eq!(BifurcationKind::of_crossing(Some(Crossing::Real)), BifurcationKind::BranchPoint);
-    /// assert_eq!(BifurcationKind::of_crossing(None).to_string(), "stability-change");
-    /// ```
-    pub fn of_crossing(crossing: Option<crate::stability::Crossing>) -> BifurcationKind {
-        use crate::stability::Crossing;
-        match crossing {
-            Some(Crossing::Real) => BifurcationKind::BranchPoint,
-            Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
-            Some(Crossing::Torus) => BifurcationKind::Torus,
-            None => BifurcationKind::StabilityChange,
-        }
-    }
 }
 
 impl std::fmt::Display for BifurcationKind {
@@ -534,8 +510,8 @@ pub struct SimRecord {
     /// Per output, in model output order.
     pub outputs: Vec<SimOutput>,
     /// The slowest free mode's start-up transient left at the end of the run
-    /// ([`crate::timedomain::StartUp`]).
-    pub start_up: Option<crate::timedomain::StartUp>,
+    /// ([`StartUp`]).
+    pub start_up: Option<StartUp>,
 }
 
 impl SimRecord {
@@ -543,7 +519,7 @@ impl SimRecord {
     /// an output that drifts is said by [`SimOutput::steady`]; this is the transient
     /// too slow to drift between the last windows.
     pub fn transient_warning(&self) -> Option<String> {
-        let s = self.start_up.filter(|s| s.left > crate::timedomain::StartUp::NEGLIGIBLE)?;
+        let s = self.start_up.filter(|s| s.left > StartUp::NEGLIGIBLE)?;
         let run = self.periods as f64 * std::f64::consts::TAU / self.omega;
         let periods = s.settling_time() * self.omega / std::f64::consts::TAU;
         let more = if periods.is_finite() {
@@ -559,5 +535,29 @@ impl SimRecord {
             s.decay_time,
             100.0 * s.left
         ))
+    }
+}
+
+/// The free mode at rest whose start-up transient decays slowest (a run from rest
+/// reports how much of it is left: `timedomain::start_up`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StartUp {
+    /// Its linear natural frequency, rad/s.
+    pub omega: f64,
+    /// Its decay time `2/ξ`, s (infinite without damping).
+    pub decay_time: f64,
+    /// `e^{-t/decay_time}` at the end of the run: the fraction of its start-up
+    /// amplitude still there (1 without damping).
+    pub left: f64,
+}
+
+impl StartUp {
+    /// More left than this and the statistics may describe the transient.
+    pub const NEGLIGIBLE: f64 = 1e-3;
+
+    /// The duration after which [`StartUp::NEGLIGIBLE`] is left (infinite without
+    /// damping).
+    pub fn settling_time(&self) -> f64 {
+        self.decay_time * (1.0 / Self::NEGLIGIBLE).ln()
     }
 }

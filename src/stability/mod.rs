@@ -32,6 +32,7 @@ use selection::*;
 use crate::balance::Balance;
 use crate::error::{Error, Result};
 use crate::model::{Model, Order};
+use crate::results::BifurcationKind;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Mat, Par};
 use num_complex::Complex64;
@@ -63,6 +64,30 @@ pub enum Crossing {
     PeriodDoubling,
     /// A complex pair elsewhere (multipliers on the unit circle): Neimark–Sacker.
     Torus,
+}
+
+// The mapping lives with `Crossing`: the result vocabulary imports no solver.
+impl BifurcationKind {
+    /// The kind of a change of stability off a fold, from how the unstable side's
+    /// leading exponent lies ([`Floquet::leading_crossing`]);
+    /// `None` where no exponent shows the root that crossed (a counted verdict):
+    /// [`BifurcationKind::StabilityChange`].
+    ///
+    /// ```
+    /// use ihbm::results::BifurcationKind;
+    /// use ihbm::stability::Crossing;
+    ///
+    /// assert_eq!(BifurcationKind::of_crossing(Some(Crossing::Real)), BifurcationKind::BranchPoint);
+    /// assert_eq!(BifurcationKind::of_crossing(None).to_string(), "stability-change");
+    /// ```
+    pub fn of_crossing(crossing: Option<Crossing>) -> BifurcationKind {
+        match crossing {
+            Some(Crossing::Real) => BifurcationKind::BranchPoint,
+            Some(Crossing::PeriodDoubling) => BifurcationKind::PeriodDoubling,
+            Some(Crossing::Torus) => BifurcationKind::Torus,
+            None => BifurcationKind::StabilityChange,
+        }
+    }
 }
 
 /// The central Floquet exponents of one periodic solution and the verdict.

@@ -12,30 +12,7 @@
 
 use crate::backbone::linear::linear_mode;
 use crate::model::Model;
-use serde::Serialize;
-
-/// The free mode at rest whose start-up transient decays slowest.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct StartUp {
-    /// Its linear natural frequency, rad/s.
-    pub omega: f64,
-    /// Its decay time `2/ξ`, s (infinite without damping).
-    pub decay_time: f64,
-    /// `e^{-t/decay_time}` at the end of the run: the fraction of its start-up
-    /// amplitude still there (1 without damping).
-    pub left: f64,
-}
-
-impl StartUp {
-    /// More left than this and the statistics may describe the transient.
-    pub const NEGLIGIBLE: f64 = 1e-3;
-
-    /// The duration after which [`StartUp::NEGLIGIBLE`] is left (infinite without
-    /// damping).
-    pub fn settling_time(&self) -> f64 {
-        self.decay_time * (1.0 / Self::NEGLIGIBLE).ln()
-    }
-}
+pub use crate::results::StartUp;
 
 /// The slowest-decaying free mode of `model` at rest after `duration` seconds, or
 /// `None` when the linearisation has no oscillatory mode to speak of (no mass, or
