@@ -28,6 +28,9 @@ pub mod corrector;
 pub mod error;
 pub mod fourier;
 pub mod linalg;
+// The linearisation at rest (natural frequencies and modes, fractional terms exact):
+// shared by backbones, cycles and time integration's start-up estimate.
+pub(crate) mod linearisation;
 pub mod model;
 #[path = "../models/mod.rs"]
 pub mod models;

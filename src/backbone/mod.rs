@@ -37,20 +37,19 @@ mod cycle;
 mod epmc;
 mod family;
 mod hopf;
-pub(crate) mod linear;
 mod stability;
 
 use crate::balance::Balance;
 use crate::continuation::tracer::{dot, LOCATE_ITER};
 use crate::continuation::Control;
 use crate::error::{Error, Result};
+pub(crate) use crate::linearisation::{linear_mode, Linearisation};
 use crate::model::Model;
 use crate::outputs::OutputEval;
 use crate::results::{PointOutput, Stability, Unknown};
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
 pub use family::{cycles, cycles_with, CycleFamily, CyclePoint, FamilyEnd, FamilyOptions, Hopf};
-pub(crate) use linear::{linear_mode, Linearisation};
 
 /// Where a trace stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -261,7 +260,7 @@ fn system<M: Model>(
     mode: usize,
     harmonics: usize,
     tol: f64,
-) -> Result<(Epmc<'_, M>, linear::LinearMode, Vec<f64>)> {
+) -> Result<(Epmc<'_, M>, crate::linearisation::LinearMode, Vec<f64>)> {
     let lm = linear_mode(model, mode)?;
     let bal = Balance::new(model, harmonics)?;
     let n = bal.len();

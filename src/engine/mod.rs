@@ -376,7 +376,7 @@ pub fn sweep_backbones<M: Model>(
 ) -> Vec<SweepBackbone> {
     let mut out = Vec::new();
     for mode in 1..=model.dofs().len() {
-        let Ok(lm) = crate::backbone::linear_mode(model, mode) else { continue };
+        let Ok(lm) = crate::linearisation::linear_mode(model, mode) else { continue };
         if !(lm.omega >= from.min(to) && lm.omega <= from.max(to)) {
             continue;
         }

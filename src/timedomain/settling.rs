@@ -10,7 +10,7 @@
 //! the mode periodic, `c/m` for one mass); what is left after the run is known
 //! before looking at the signal.
 
-use crate::backbone::linear::linear_mode;
+use crate::linearisation::linear_mode;
 use crate::model::Model;
 pub use crate::results::StartUp;
 
