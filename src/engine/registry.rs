@@ -1,9 +1,8 @@
 //! Models registered by name, behind an object-safe trait.
 //!
-//! [`Model`] is not object-safe (its residual is generic over dual numbers), so each
-//! registered type is wrapped in [`Registered<M>`], whose blanket [`AnyModel`] impl
-//! monomorphises solve, sweep and simulate for `M`.
-
+//! Every registered model is held as a [`BoxedModel`], so the solvers behind
+//! [`AnyModel`] are compiled once for all of them (not once per model type).
+//!
 use super::{
     self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
     SweepBackbone, SweepSettings,
@@ -12,7 +11,7 @@ use crate::backbone::{Backbone, Cycle, CycleFamily, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
-use crate::model::{Model, Output, ParamInfo, Text};
+use crate::model::{BoxedModel, Model, Output, ParamInfo, Text};
 use crate::results::{Curve, SimRecord, SolveRecord};
 use crate::runtime::RuntimeModel;
 use crate::timedomain::CompareRow;
@@ -87,21 +86,19 @@ pub trait AnyModel: Send + Sync {
     fn clone_box(&self) -> Box<dyn AnyModel>;
 }
 
-/// A model type `M` registered under a name.
+/// A model registered under a name.
 #[derive(Debug, Clone)]
-pub struct Registered<M> {
+pub struct Registered {
     name: String,
-    model: M,
+    model: BoxedModel,
 }
 
-impl<M: Model + Clone + 'static> Registered<M> {
+impl Registered {
     /// Wrap `model` under `name`.
-    pub fn new(name: &str, model: M) -> Self {
-        Registered { name: name.to_string(), model }
+    pub fn new<M: Model + Clone + 'static>(name: &str, model: M) -> Self {
+        Registered { name: name.to_string(), model: BoxedModel::new(model) }
     }
-}
 
-impl<M> Registered<M> {
     /// Errors name the registered model, not the type's own name.
     fn named(&self, e: Error) -> Error {
         match e {
@@ -113,7 +110,7 @@ impl<M> Registered<M> {
     }
 }
 
-impl<M: Model + Clone + 'static> AnyModel for Registered<M> {
+impl AnyModel for Registered {
     fn name(&self) -> &str {
         &self.name
     }

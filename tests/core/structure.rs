@@ -243,7 +243,7 @@ impl<M: Model> Model for Unclaimed<M> {
     fn explicit_omega(&self) -> bool {
         self.0.explicit_omega()
     }
-    fn residual<D: DualNum<Primitive = f64> + Copy>(
+    fn residual<D: ihbm::model::Scalar>(
         &self,
         p: &[D],
         omega: D,

@@ -10,8 +10,22 @@
 //! derivative is ever written by hand.
 
 use crate::error::Error;
-use num_dual::DualNum;
+use num_dual::{Dual64, DualNum, HyperDual64};
 use std::borrow::Cow;
+
+mod boxed;
+pub use boxed::{BoxedModel, DynModel};
+
+/// The scalar types the solvers evaluate a residual in: `f64` (values), [`Dual64`]
+/// (first derivatives: Jacobians, ∂R/∂Ω, ∂R/∂θ) and [`HyperDual64`] (second
+/// derivatives: fold and bifurcation curves). The set is closed — a [`BoxedModel`]
+/// dispatches on it — and a model implements [`Model::residual`] for any
+/// `D: DualNum<Primitive = f64> + Copy`, which covers all three.
+pub trait Scalar: DualNum<Primitive = f64> + Copy + boxed::Dispatch {}
+
+impl Scalar for f64 {}
+impl Scalar for Dual64 {}
+impl Scalar for HyperDual64 {}
 
 /// Text a model owns or borrows: `Cow::Borrowed` for the `'static` data `oscillator!`
 /// generates, `Cow::Owned` for a model built at run time (a chain sized in a loop, a
@@ -299,14 +313,12 @@ pub trait Model: Send + Sync {
     /// - `phase`: `Ω t` at this sample (forcing terms are `cos(k·phase)`, `sin(k·phase)`);
     /// - `signals`: the signal values at this sample, in `signals()` order;
     /// - `out`: one residual per DOF, written (not accumulated).
-    fn residual<D: DualNum<Primitive = f64> + Copy>(
-        &self,
-        params: &[D],
-        omega: D,
-        phase: f64,
-        signals: &[D],
-        out: &mut [D],
-    );
+    ///
+    /// The solvers call it with the [`Scalar`] types; an implementation is generic
+    /// over any `D: DualNum<Primitive = f64> + Copy` (a looser bound, as in the
+    /// example above); one that forwards to another model's residual declares
+    /// `D: Scalar`, as the trait does.
+    fn residual<D: Scalar>(&self, params: &[D], omega: D, phase: f64, signals: &[D], out: &mut [D]);
 
     /// Check that every coefficient is finite at parameters `params` and frequency
     /// `omega` (a coefficient may be any smooth expression of them, `sqrt(k - m Ω²)`,
