@@ -4,7 +4,8 @@ use super::args::{Command, CurveArgs};
 use super::Failure;
 use crate::backbone::{Backbone, BackboneEnd, CycleFamily, FamilyEnd, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent};
-use crate::continuation::Control;
+use crate::continuation::{Control, Observer};
+use crate::engine::detach::{self, Detached, TraceCopy};
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
 use crate::engine::{BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings};
@@ -14,6 +15,8 @@ use crate::results::Curve;
 use crate::study;
 use std::io::Write;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
@@ -101,13 +104,12 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
             }
             let stop = interrupt_flag();
-            let mut watch = progress::Stoppable {
-                inner: progress::CurveProgress::new(pb.clone(), &name),
-                stop: &stop,
-            };
-            let curve = model.sweep(from, to, &settings, &mut watch);
+            let (m, s) = (model.clone_box(), settings.clone());
+            let curve = traced(&stop, &pb, &name, settings.checks_stability(), move |obs| {
+                m.sweep(from, to, &s, obs)
+            });
             pb.finish_and_clear();
-            let curve = curve.map_err(Failure::from_error)?;
+            let curve = curve?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
             let (overlays, warnings) = if backbone {
                 backbone_overlays(model.as_ref(), &curve, (from, to))
@@ -129,14 +131,11 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
             ));
             let settings = args.cont.settings(args.harmonics);
-            let range = ParamRange { param: &param, from, to, omega };
             let stop = interrupt_flag();
-            let mut watch = progress::Stoppable {
-                inner: progress::CurveProgress::new(pb.clone(), &name),
-                stop: &stop,
-            };
-            let curve =
-                model.sweep_param(&range, &settings, &mut watch).map_err(Failure::from_error);
+            let (m, s, p) = (model.clone_box(), settings.clone(), param.clone());
+            let curve = traced(&stop, &pb, &name, settings.checks_stability(), move |obs| {
+                m.sweep_param(&ParamRange { param: &p, from, to, omega }, &s, obs)
+            });
             pb.finish_and_clear();
             let curve = curve?;
             let title = format!(
@@ -740,6 +739,37 @@ fn interrupted(stop: &std::sync::atomic::AtomicBool, curve: &Curve) -> Result<()
             curve.points.len()
         ),
     })
+}
+
+/// Trace a curve on a thread of its own ([`detach`]), stopped by `stop`: the curve,
+/// or, when the stop is not answered within [`detach::GRACE`] (one point of a large
+/// problem can take minutes), the curve as far as it came.
+fn traced<F>(
+    stop: &Arc<AtomicBool>,
+    pb: &indicatif::ProgressBar,
+    name: &str,
+    stability_checked: bool,
+    trace: F,
+) -> Result<Curve, Failure>
+where
+    F: FnOnce(&mut dyn Observer) -> crate::Result<Curve> + Send + 'static,
+{
+    let copy = TraceCopy::default();
+    let work = {
+        let (copy, stop, pb, name) = (copy.clone(), Arc::clone(stop), pb.clone(), name.to_string());
+        move || {
+            let inner = progress::CurveProgress::new(pb, &name);
+            trace(&mut copy.watching(progress::Stoppable { inner, stop: &stop }))
+        }
+    };
+    match detach::run(stop, work) {
+        Detached::Returned(curve) => curve.map_err(Failure::from_error),
+        Detached::Abandoned => copy.stopped_curve(name, stability_checked).ok_or_else(|| Failure {
+            code: super::EXIT_INTERRUPTED,
+            message: "interrupted before the first point: nothing written".into(),
+        }),
+        Detached::Panicked(why) => Err(Failure::failed(why)),
+    }
 }
 
 /// A flag the first SIGINT or SIGTERM sets (the study or sweep then stops and writes

@@ -2,7 +2,9 @@
 //! [`Continuation::step`](super::Continuation::step), the [`Trace`] traced so far, and
 //! the [`Observer`]s that watch a run and may stop it.
 
-use crate::results::{Bifurcation, CurvePoint, CurveStats, Fold, Parameter, Segment};
+use crate::results::{
+    Bifurcation, Curve, CurvePoint, CurveStats, Fold, Jump, Parameter, Segment, SegmentEnd,
+};
 
 /// What one [`Continuation::step`](super::Continuation::step) produced. Indices point into the [`Trace`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,4 +72,76 @@ pub struct Trace {
     pub segments: Vec<Segment>,
     /// Counters so far.
     pub stats: CurveStats,
+}
+
+impl Trace {
+    /// Bring `copy`, an earlier clone of this trace, up to date by copying only what
+    /// was added since: a continuation only appends to a trace, so an observer keeps a
+    /// current copy (for a run it may have to abandon) at the cost of the new entries.
+    pub fn update(&self, copy: &mut Trace) {
+        fn tail<T: Clone>(from: &[T], to: &mut Vec<T>) {
+            if to.len() > from.len() {
+                to.clear(); // not an earlier copy of this trace after all
+            }
+            to.extend_from_slice(&from[to.len()..]);
+        }
+        copy.harmonics = self.harmonics;
+        if copy.parameter != self.parameter {
+            copy.parameter = self.parameter.clone();
+        }
+        if copy.output_names != self.output_names {
+            copy.output_names = self.output_names.clone();
+        }
+        tail(&self.points, &mut copy.points);
+        tail(&self.folds, &mut copy.folds);
+        tail(&self.bifurcations, &mut copy.bifurcations);
+        tail(&self.segments, &mut copy.segments);
+        copy.stats = self.stats;
+    }
+
+    /// The curve as far as this trace goes, for a run abandoned between two events
+    /// (an interrupted study keeps the copy an observer took at the last event): a
+    /// segment still being traced ends [`SegmentEnd::Stopped`], and the jumps are
+    /// those the points show, their landings not refined (what
+    /// [`Continuation::finish`](super::Continuation::finish) adds).
+    pub fn into_stopped_curve(mut self, model: &str, stability_checked: bool) -> Curve {
+        let open = self.segments.len();
+        let lambda = |p: &CurvePoint| match self.parameter {
+            Parameter::Omega => p.omega,
+            Parameter::Model { .. } => p.param,
+        };
+        let mut on = self.points.iter().filter(|p| p.segment == open);
+        if let Some(first) = on.next() {
+            let from = lambda(first);
+            let to = on.next_back().map_or(from, lambda);
+            self.segments.push(Segment { from, to, ended: SegmentEnd::Stopped });
+        }
+        self.stats.folds = self.folds.len();
+        self.stats.folds_unlocated = self.folds.iter().filter(|f| !f.located).count();
+        let (jumps, _) = super::jumps::find_landings(&self.points, &self.folds, &self.output_names);
+        self.into_curve(model, stability_checked, jumps)
+    }
+
+    /// The curve with these jumps.
+    pub(super) fn into_curve(
+        self,
+        model: &str,
+        stability_checked: bool,
+        jumps: Vec<Jump>,
+    ) -> Curve {
+        Curve {
+            model: model.to_string(),
+            harmonics: self.harmonics,
+            parameter: self.parameter,
+            output_names: self.output_names,
+            points: self.points,
+            stability_checked,
+            folds: self.folds,
+            jumps,
+            segments: self.segments,
+            stats: self.stats,
+            bifurcations: self.bifurcations,
+            convergence: None,
+        }
+    }
 }

@@ -336,21 +336,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             &self.trace.output_names,
         );
         self.land_exactly(&mut jumps, &landings);
-        let t = self.trace;
-        Curve {
-            model: self.model.name().to_string(),
-            harmonics: t.harmonics,
-            parameter: t.parameter,
-            output_names: t.output_names,
-            points: t.points,
-            stability_checked: self.opts.stability.is_some(),
-            folds: t.folds,
-            jumps,
-            segments: t.segments,
-            stats: t.stats,
-            bifurcations: t.bifurcations,
-            convergence: None,
-        }
+        self.trace.into_curve(self.model.name(), self.opts.stability.is_some(), jumps)
     }
 
     fn end_segment(&mut self, seg: usize, ended: SegmentEnd) {

@@ -1,7 +1,8 @@
 //! The one place where the command line and studies call the solvers (solve, sweep,
 //! simulate) for a concrete model type: settings as a user writes them in, records
 //! out. Below it, models registered by name ([`registry`]), the settings
-//! ([`settings`]) and the progress display ([`progress`]); above it, [`crate::study`]
+//! ([`settings`]), the progress display ([`progress`]) and work a signal cuts short
+//! ([`detach`]); above it, [`crate::study`]
 //! and the command line. Nothing here imports either.
 
 use crate::backbone::{Backbone, BackboneEnd, BackboneOptions};
@@ -16,6 +17,7 @@ use crate::results::{Curve, SimOutput, SimRecord, SolveRecord, Stability, Unknow
 use crate::stability::{Hill, StabilityOptions};
 use crate::timedomain::{self, CompareRow, Scheme, SimOptions};
 
+pub mod detach;
 pub mod progress;
 pub mod registry;
 pub mod settings;

@@ -180,10 +180,24 @@ impl SweepSettings {
             predictor: self.predictor.unwrap_or(d.predictor),
             max_steps: self.max_steps.unwrap_or(d.max_steps),
             amplitude_bound: self.amplitude_bound.unwrap_or(d.amplitude_bound),
-            stability: if self.stability == Some(false) { None } else { d.stability },
+            stability: self.stability_options(),
             convergence,
             ..d
         })
+    }
+
+    /// The stability options of the sweep: the default ones unless switched off.
+    fn stability_options(&self) -> Option<crate::stability::StabilityOptions> {
+        if self.stability == Some(false) {
+            None
+        } else {
+            SweepOptions::default().stability
+        }
+    }
+
+    /// Whether the sweep checks the stability of its points.
+    pub fn checks_stability(&self) -> bool {
+        self.stability_options().is_some()
     }
 
     /// These settings with the ones `over` gives replacing them (a study figure's

@@ -7,6 +7,7 @@ use super::spec::{BackboneSpec, Study};
 use super::summary::{self, FigureResult, FoldMember};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
+use crate::engine::detach::{self, Detached, TraceCopy};
 use crate::engine::progress;
 use crate::engine::registry::{AnyModel, Registry};
 use crate::engine::{FoldRange, SimSettings, SweepBackbone, SweepSettings};
@@ -15,9 +16,9 @@ use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
 use crate::results::Curve;
 use crate::timedomain::CompareRow;
 use rayon::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 struct CurvePlan {
@@ -66,7 +67,8 @@ impl FigurePlan {
     }
 }
 
-/// One parallel job: a curve, or a harmonic-balance/time-integration comparison.
+/// One parallel job: a curve, a fold analysis, or a harmonic-balance/time-integration
+/// comparison — of figure `.0`, its curve or time-domain point `.1`.
 #[derive(Clone, Copy)]
 enum Job {
     Curve(usize, usize),
@@ -74,16 +76,29 @@ enum Job {
     Compare(usize, usize),
 }
 
+impl Job {
+    fn figure(self) -> usize {
+        match self {
+            Job::Curve(f, _) | Job::Folds(f, _) | Job::Compare(f, _) => f,
+        }
+    }
+
+    fn index(self) -> usize {
+        match self {
+            Job::Curve(_, k) | Job::Folds(_, k) | Job::Compare(_, k) => k,
+        }
+    }
+}
+
 enum Done {
     // Boxed: a curve's header outweighs the other results several times.
     Curve(Result<Box<Curve>>),
     Folds(Result<Box<FoldCurves>>),
     Compare(CompareRow),
-    /// Not started: the run was interrupted first.
-    Skipped,
 }
 
 /// What the jobs of one figure produced.
+#[derive(Clone)]
 struct Finished {
     curves: Vec<Option<Curve>>,
     folds: Vec<Option<FoldCurves>>,
@@ -210,24 +225,28 @@ pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
 /// and a sweep JSON, per figure an SVG (and a time-domain CSV), and `summary.md`.
 /// Failed parts are listed in the outcome and in `summary.md`; the rest is written.
 pub fn run(study: &Study, reg: &Registry, dir: &Path) -> Result<StudyOutcome> {
-    run_until(study, reg, dir, &AtomicBool::new(false))
+    run_until(study, reg, dir, &Arc::new(AtomicBool::new(false)))
 }
 
 /// [`run`], cut short when `stop` is set (by a signal handler, say): no part starts
-/// after that, running continuations stop at their next point, and the figures and
-/// `summary.md` are written from whatever finished, the summary naming the parts
-/// left unfinished. Each curve's CSV and JSON are written as soon as it finishes,
-/// and until the run ends `summary.md` says that it has not finished and which
-/// parts have, so a run killed outright leaves no summary of an earlier run behind.
+/// after that, and within a fraction of a second ([`detach::GRACE`]) the figures and
+/// `summary.md` are written from whatever finished, each curve or fold analysis
+/// still running kept as far as it had come (ended "stopped"), the summary naming
+/// the parts left unfinished. The computation runs on threads of its own, so a
+/// point that takes minutes does not hold the stop up; it is abandoned, and the
+/// process is expected to exit. Each curve's CSV and JSON are written as soon as
+/// it finishes, and until the run ends `summary.md` says that it has not finished
+/// and which parts have, so a run killed outright leaves no summary of an earlier
+/// run behind.
 pub fn run_until(
     study: &Study,
     reg: &Registry,
     dir: &Path,
-    stop: &AtomicBool,
+    stop: &Arc<AtomicBool>,
 ) -> Result<StudyOutcome> {
     let start = Instant::now();
     output_files(study, reg)?;
-    let plans = plan(study, reg)?;
+    let plans = Arc::new(plan(study, reg)?);
     std::fs::create_dir_all(dir)
         .map_err(|source| Error::Io { path: dir.display().to_string(), source })?;
     // A run killed outright here before may have left a file half-written under its
@@ -235,9 +254,32 @@ pub fn run_until(
     crate::report::remove_stale_temporaries(dir);
     let mut out = StudyOutcome::default();
     let log = RunLog::start(study, dir, &mut out);
-    let mut finished = run_jobs(&plans, dir, stop, &log, &mut out);
-    if !stop.load(Ordering::Relaxed) {
-        backbones(&plans, &mut finished);
+    let jobs = Arc::new(Jobs::new(&plans, dir.to_path_buf(), log));
+    let running = {
+        let (jobs, plans, flag) = (Arc::clone(&jobs), Arc::clone(&plans), Arc::clone(stop));
+        detach::run(stop.as_ref(), move || jobs.run(&plans, &flag))
+    };
+    if let Detached::Panicked(why) = &running {
+        out.failures.push(format!("the run ended abnormally: {why}"));
+    }
+    let mut finished = jobs.collect(&plans, &mut out);
+    if !stop.load(Ordering::Relaxed) && !matches!(running, Detached::Panicked(_)) {
+        let (plans, done) = (Arc::clone(&plans), Arc::new(finished));
+        let found = {
+            let done = Arc::clone(&done);
+            detach::run(stop.as_ref(), move || backbones(&plans, &done))
+        };
+        finished = Arc::try_unwrap(done).unwrap_or_else(|shared| (*shared).clone());
+        match found {
+            Detached::Returned(found) => {
+                for (done, (b, t)) in finished.iter_mut().zip(found) {
+                    done.backbones = b;
+                    done.seconds += t;
+                }
+            }
+            Detached::Abandoned => {}
+            Detached::Panicked(why) => out.failures.push(format!("backbones: {why}")),
+        }
     }
     out.interrupted = stop.load(Ordering::Relaxed);
     let mut results = Vec::new();
@@ -252,16 +294,16 @@ pub fn run_until(
 
 /// `summary.md` while a run is under way: that it has not finished, and the parts
 /// that have (rewritten as each finishes).
-struct RunLog<'a> {
-    dir: &'a Path,
+struct RunLog {
+    dir: PathBuf,
     title: String,
     done: Mutex<Vec<String>>,
 }
 
-impl<'a> RunLog<'a> {
-    fn start(study: &Study, dir: &'a Path, out: &mut StudyOutcome) -> Self {
+impl RunLog {
+    fn start(study: &Study, dir: &Path, out: &mut StudyOutcome) -> Self {
         let log = RunLog {
-            dir,
+            dir: dir.to_path_buf(),
             title: study.title.clone().unwrap_or_else(|| "Study".into()),
             done: Mutex::new(Vec::new()),
         };
@@ -294,47 +336,82 @@ impl<'a> RunLog<'a> {
     }
 }
 
-/// Every curve and comparison of every figure, in parallel; failures named by part.
-/// A curve's or fold analysis's files are written as soon as it finishes.
-fn run_jobs(
-    plans: &[FigurePlan],
-    dir: &Path,
-    stop: &AtomicBool,
-    log: &RunLog,
-    out: &mut StudyOutcome,
-) -> Vec<Finished> {
-    let mut jobs = Vec::new();
-    for (f, p) in plans.iter().enumerate() {
-        if p.folds.is_some() {
-            jobs.extend((0..p.curves.len()).map(|k| Job::Folds(f, k)));
-        } else {
-            jobs.extend((0..p.curves.len()).map(|k| Job::Curve(f, k)));
-        }
-        jobs.extend((0..p.td.len()).map(|k| Job::Compare(f, k)));
-    }
-    let stopped = || stop.load(Ordering::Relaxed);
-    let pb = progress::bar(jobs.len() as u64, "curves and time-domain points");
-    let done: Vec<(Done, f64, StudyOutcome)> = jobs
-        .par_iter()
-        .map(|&job| {
-            let t = Instant::now();
-            let mut written = StudyOutcome::default();
-            if stopped() {
-                return (Done::Skipped, 0.0, written);
+/// Where one job stands, readable by the waiting thread whether or not the job ever
+/// returns.
+enum Slot {
+    /// Not started.
+    Pending,
+    /// Started; a curve's or fold analysis's copy of what it has traced so far.
+    Running(Option<Partial>),
+    /// Finished, its files written: the result, seconds taken, files and notes.
+    Done(Done, f64, Box<StudyOutcome>),
+}
+
+/// What a running job has traced, kept up to date at every event (a curve's is in
+/// its [`TraceCopy`]).
+enum Partial {
+    Curve,
+    Folds(Box<FoldCurves>),
+}
+
+/// Every job of a run and where each stands. Workers write files only while the run
+/// is open; the waiting thread closes it before it writes from the slots, so no file
+/// is written twice at once and none after the run's own summary.
+struct Jobs {
+    list: Vec<Job>,
+    slots: Vec<Mutex<Slot>>,
+    traces: Vec<TraceCopy>,
+    open: Mutex<bool>,
+    dir: PathBuf,
+    log: RunLog,
+    pb: indicatif::ProgressBar,
+}
+
+impl Jobs {
+    fn new(plans: &[FigurePlan], dir: PathBuf, log: RunLog) -> Self {
+        let mut list = Vec::new();
+        for (f, p) in plans.iter().enumerate() {
+            if p.folds.is_some() {
+                list.extend((0..p.curves.len()).map(|k| Job::Folds(f, k)));
+            } else {
+                list.extend((0..p.curves.len()).map(|k| Job::Curve(f, k)));
             }
+            list.extend((0..p.td.len()).map(|k| Job::Compare(f, k)));
+        }
+        let slots = list.iter().map(|_| Mutex::new(Slot::Pending)).collect();
+        let traces = list.iter().map(|_| TraceCopy::default()).collect();
+        let pb = progress::bar(list.len() as u64, "curves and time-domain points");
+        Jobs { list, slots, traces, open: Mutex::new(true), dir, log, pb }
+    }
+
+    fn set(&self, i: usize, slot: Slot) {
+        if let Ok(mut s) = self.slots[i].lock() {
+            *s = slot;
+        }
+    }
+
+    /// Every curve and comparison of every figure, in parallel, each result left in
+    /// its slot (files written as each finishes).
+    fn run(&self, plans: &[FigurePlan], stop: &AtomicBool) {
+        let stopped = || stop.load(Ordering::Relaxed);
+        (0..self.list.len()).into_par_iter().for_each(|i| {
+            if stopped() {
+                return;
+            }
+            let job = self.list[i];
+            let partial = matches!(job, Job::Curve(..)).then_some(Partial::Curve);
+            self.set(i, Slot::Running(partial));
+            let t = Instant::now();
             let r = match job {
                 Job::Curve(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let mut watch = progress::Stoppable {
-                        inner: progress::CurveProgress::new(pb.clone(), c.model.name()),
+                    let progress = progress::Stoppable {
+                        inner: progress::CurveProgress::new(self.pb.clone(), c.model.name()),
                         stop,
                     };
+                    let mut watch = self.traces[i].watching(progress);
                     let (lo, hi) = p.range;
-                    let r = c.model.sweep(lo, hi, &c.sweep, &mut watch);
-                    if let Ok(curve) = &r {
-                        write_curve(dir, &c.stem, curve, &mut written);
-                    }
-                    Done::Curve(r.map(Box::new))
+                    Done::Curve(c.model.sweep(lo, hi, &c.sweep, &mut watch).map(Box::new))
                 }
                 Job::Folds(f, k) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
@@ -342,31 +419,41 @@ fn run_jobs(
                     let range = FoldRange { param: &param, from, to, omega: p.range, boundary };
                     let label = format!("{}: {boundary} curves, {}", p.id, c.label);
                     let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
+                        self.set(i, Slot::Running(Some(Partial::Folds(Box::new(fc.clone())))));
                         if stopped() {
                             return Control::Stop;
                         }
-                        pb.set_message(progress::fold_message(&label, e, fc));
+                        self.pb.set_message(progress::fold_message(&label, e, fc));
                         Control::Continue
                     };
-                    let r = c.model.fold_curves(&range, &c.sweep, &mut watch);
-                    if let Ok(folds) = &r {
-                        write(
-                            dir,
-                            format!("{}.csv", c.stem),
-                            &report::folds_csv(folds),
-                            &mut written,
-                        );
-                        let json = serde_json::to_string_pretty(&report::folds_json(folds))
-                            .unwrap_or_default();
-                        write(dir, format!("{}.json", c.stem), &json, &mut written);
-                    }
-                    Done::Folds(r.map(Box::new))
+                    Done::Folds(c.model.fold_curves(&range, &c.sweep, &mut watch).map(Box::new))
                 }
                 Job::Compare(f, k) => {
                     let (p, td) = (&plans[f], &plans[f].td[k]);
                     Done::Compare(p.td_model.compare(td.omega, &td.sim, p.harmonics))
                 }
             };
+            let t = t.elapsed().as_secs_f64();
+            let Ok(open) = self.open.lock() else { return };
+            if !*open {
+                return; // the waiting thread has taken over: it writes from the copy
+            }
+            let mut written = StudyOutcome::default();
+            match &r {
+                Done::Curve(Ok(curve)) => write_curve(
+                    &self.dir,
+                    &plans[job.figure()].curves[job.index()].stem,
+                    curve,
+                    &mut written,
+                ),
+                Done::Folds(Ok(folds)) => write_folds(
+                    &self.dir,
+                    &plans[job.figure()].curves[job.index()].stem,
+                    folds,
+                    &mut written,
+                ),
+                _ => {}
+            }
             // A part the interruption cut short is unfinished, though what it
             // computed is kept.
             let part = part_name(plans, job);
@@ -377,57 +464,84 @@ fn run_jobs(
                     Done::Curve(r) => r.is_err(),
                     Done::Folds(r) => r.is_err(),
                     Done::Compare(row) => row.failure.is_some(),
-                    Done::Skipped => false,
                 };
-                log.finished(if failed { format!("{part} (failed: no files)") } else { part });
+                self.log.finished(if failed { format!("{part} (failed: no files)") } else { part });
             }
-            pb.inc(1);
-            (r, t.elapsed().as_secs_f64(), written)
-        })
-        .collect();
-    pb.finish_and_clear();
-    let mut finished: Vec<Finished> = plans
-        .iter()
-        .map(|p| Finished {
-            curves: p.curves.iter().map(|_| None).collect(),
-            folds: p.curves.iter().map(|_| None).collect(),
-            rows: p.td.iter().map(|_| None).collect(),
-            backbones: Vec::new(),
-            seconds: 0.0,
-        })
-        .collect();
-    for (job, (r, t, written)) in jobs.into_iter().zip(done) {
-        out.append(written);
-        let part = || part_name(plans, job);
-        match (job, r) {
-            (_, Done::Skipped) => {
-                out.unfinished.push(format!("{}: not started (interrupted)", part()))
-            }
-            (Job::Curve(f, k), Done::Curve(r)) => {
-                finished[f].seconds += t;
-                match r {
-                    Ok(c) => finished[f].curves[k] = Some(*c),
-                    Err(e) => out.failures.push(format!("{}: {e}", part())),
-                }
-            }
-            (Job::Folds(f, k), Done::Folds(r)) => {
-                finished[f].seconds += t;
-                match r {
-                    Ok(c) => finished[f].folds[k] = Some(*c),
-                    Err(e) => out.failures.push(format!("{}: {e}", part())),
-                }
-            }
-            (Job::Compare(f, k), Done::Compare(row)) => {
-                finished[f].seconds += t;
-                if let Some(why) = &row.failure {
-                    out.failures.push(format!("{}: {why}", part()));
-                }
-                finished[f].rows[k] = Some(row);
-            }
-            _ => {}
-        }
+            self.pb.inc(1);
+            self.set(i, Slot::Done(r, t, Box::new(written)));
+        });
     }
-    finished
+
+    /// Close the run and gather every slot by figure: finished parts as they are,
+    /// parts still running as far as they came (their files written here), parts not
+    /// started noted as such.
+    fn collect(&self, plans: &[FigurePlan], out: &mut StudyOutcome) -> Vec<Finished> {
+        if let Ok(mut open) = self.open.lock() {
+            *open = false;
+        }
+        self.pb.finish_and_clear();
+        let mut finished: Vec<Finished> = plans
+            .iter()
+            .map(|p| Finished {
+                curves: p.curves.iter().map(|_| None).collect(),
+                folds: p.curves.iter().map(|_| None).collect(),
+                rows: p.td.iter().map(|_| None).collect(),
+                backbones: Vec::new(),
+                seconds: 0.0,
+            })
+            .collect();
+        for (i, (&job, slot)) in self.list.iter().zip(&self.slots).enumerate() {
+            let slot = match slot.lock() {
+                Ok(mut s) => std::mem::replace(&mut *s, Slot::Pending),
+                Err(_) => Slot::Pending,
+            };
+            let part = || part_name(plans, job);
+            let (f, k) = (job.figure(), job.index());
+            match slot {
+                Slot::Pending => {
+                    out.unfinished.push(format!("{}: not started (interrupted)", part()))
+                }
+                Slot::Running(partial) => {
+                    out.unfinished.push(format!("{}: stopped part way (interrupted)", part()));
+                    let c = &plans[f].curves.get(k);
+                    match (partial, c) {
+                        (Some(Partial::Curve), Some(c)) => {
+                            let checked = c.sweep.checks_stability();
+                            if let Some(curve) =
+                                self.traces[i].stopped_curve(c.model.name(), checked)
+                            {
+                                write_curve(&self.dir, &c.stem, &curve, out);
+                                finished[f].curves[k] = Some(curve);
+                            }
+                        }
+                        (Some(Partial::Folds(folds)), Some(c)) => {
+                            write_folds(&self.dir, &c.stem, &folds, out);
+                            finished[f].folds[k] = Some(*folds);
+                        }
+                        _ => {}
+                    }
+                }
+                Slot::Done(r, t, written) => {
+                    out.append(*written);
+                    finished[f].seconds += t;
+                    match r {
+                        Done::Curve(Ok(c)) => finished[f].curves[k] = Some(*c),
+                        Done::Folds(Ok(c)) => finished[f].folds[k] = Some(*c),
+                        Done::Curve(Err(e)) | Done::Folds(Err(e)) => {
+                            out.failures.push(format!("{}: {e}", part()))
+                        }
+                        Done::Compare(row) => {
+                            if let Some(why) = &row.failure {
+                                out.failures.push(format!("{}: {why}", part()));
+                            }
+                            finished[f].rows[k] = Some(row);
+                        }
+                    }
+                }
+            }
+        }
+        finished
+    }
 }
 
 /// How a job is named in failures and in the summary.
@@ -455,11 +569,18 @@ fn write_curve(dir: &Path, stem: &str, c: &Curve, out: &mut StudyOutcome) {
     write(dir, format!("{stem}.json"), &json, out);
 }
 
+/// A finished fold analysis's CSV and JSON.
+fn write_folds(dir: &Path, stem: &str, folds: &FoldCurves, out: &mut StudyOutcome) {
+    write(dir, format!("{stem}.csv"), &report::folds_csv(folds), out);
+    let json = serde_json::to_string_pretty(&report::folds_json(folds)).unwrap_or_default();
+    write(dir, format!("{stem}.json"), &json, out);
+}
+
 /// The backbones of every figure that asks for them, in parallel over figures: of
 /// the figure's model, each mode continued in each panel's output to the largest
 /// amplitude of it on the finished curves ([`crate::engine::sweep_backbones`]).
-fn backbones(plans: &[FigurePlan], finished: &mut [Finished]) {
-    let found: Vec<(Vec<SweepBackbone>, f64)> = plans
+fn backbones(plans: &[FigurePlan], finished: &[Finished]) -> Vec<(Vec<SweepBackbone>, f64)> {
+    plans
         .par_iter()
         .zip(finished.par_iter())
         .map(|(p, done)| {
@@ -488,11 +609,7 @@ fn backbones(plans: &[FigurePlan], finished: &mut [Finished]) {
             }
             (found, t.elapsed().as_secs_f64())
         })
-        .collect();
-    for (done, (b, t)) in finished.iter_mut().zip(found) {
-        done.backbones = b;
-        done.seconds += t;
-    }
+        .collect()
 }
 
 /// Write `text` to `dir/name`, recording the file or the failure.

@@ -359,3 +359,41 @@ fn stepping_gives_the_sweep_and_a_stop_keeps_a_prefix() {
     let upper = expected.iter().cloned().fold(f64::MIN, f64::max);
     assert!((part.folds[0].omega - upper).abs() < 1e-8 * upper, "{:?} vs {upper}", part.folds[0]);
 }
+
+/// What an observer that may have to abandon a run keeps: a copy brought up to date
+/// at every event equals the trace itself, and the curve made from it when the run is
+/// abandoned has the points, folds and segments (the open one ended "stopped") that
+/// `finish` gives when the run is stopped at the same event; only the jumps' landings
+/// are not refined, so the jumps agree in number and direction.
+#[test]
+fn a_copy_updated_at_every_event_is_the_trace_and_ends_as_finish_would() {
+    use ihbm::continuation::{Continuation, Event, Trace};
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let opts = one_harmonic_opts();
+    for stop_after in [1, 7, 20, usize::MAX] {
+        let mut run = Continuation::omega(&model, 0.5, 2.5, &opts).unwrap();
+        let mut copy: Option<Trace> = None;
+        let mut seen = 0;
+        loop {
+            let e = run.step();
+            match &mut copy {
+                Some(c) => run.trace().update(c),
+                None => copy = Some(run.trace().clone()),
+            }
+            assert_eq!(copy.as_ref(), Some(run.trace()));
+            seen += 1;
+            if e == Event::Finished || seen == stop_after {
+                break;
+            }
+        }
+        let kept = copy.unwrap().into_stopped_curve("duffing", true);
+        let finished = run.finish();
+        assert_eq!(kept.points, finished.points);
+        assert_eq!(kept.folds, finished.folds);
+        assert_eq!(kept.segments, finished.segments, "stopped after {stop_after} events");
+        assert_eq!(kept.jumps.len(), finished.jumps.len());
+        for (a, b) in kept.jumps.iter().zip(&finished.jumps) {
+            assert_eq!((a.direction, a.at, &a.output), (b.direction, b.at, &b.output));
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! Work that a signal cuts short within a fraction of a second.
+//!
+//! A continuation stops at its next point when its observer says so, but one point
+//! can take minutes (a thousand harmonics: one dense factorisation, one Hill
+//! eigenproblem). So the application runs long work on a thread of its own and
+//! waits: when the stop flag is set and the work has not returned within
+//! [`GRACE`], the caller goes on without it — writing what the work published so
+//! far — and the process exits with the thread abandoned mid-step.
+
+use crate::continuation::{Event, Observer, Trace};
+use crate::results::Curve;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How long stopped work gets to return by itself (a curve ends at its next point,
+/// which for ordinary sizes takes milliseconds) before it is abandoned.
+pub const GRACE: Duration = Duration::from_millis(300);
+
+/// How often the stop flag is looked at while the work runs.
+const POLL: Duration = Duration::from_millis(25);
+
+/// How detached work ended.
+#[derive(Debug)]
+pub enum Detached<T> {
+    /// It returned.
+    Returned(T),
+    /// The flag was set and it did not return within [`GRACE`]: it still runs, and
+    /// whatever it publishes after this is not looked at.
+    Abandoned,
+    /// It panicked (a bug: the message is the panic's).
+    Panicked(String),
+}
+
+/// Run `work` on a thread of its own and wait for it, or, once `stop` is set, for at
+/// most [`GRACE`] more. Where no thread can be started the work runs here (and then
+/// stops only as promptly as it checks the flag itself).
+pub fn run<T, F>(stop: &AtomicBool, work: F) -> Detached<T>
+where
+    T: Send + 'static,
+    F: FnOnce() -> T + Send + 'static,
+{
+    let (tx, rx) = mpsc::channel();
+    let spawned = std::thread::Builder::new().name("ihbm-work".into()).spawn(move || {
+        // A send fails only once the waiter has gone: the result is not wanted.
+        let _ = tx.send(work());
+    });
+    let handle = match spawned {
+        Ok(h) => h,
+        Err(e) => {
+            // The closure went into the failed spawn; nothing is left to run here.
+            return Detached::Panicked(format!("could not start a worker thread: {e}"));
+        }
+    };
+    let mut deadline: Option<Instant> = None;
+    loop {
+        let wait = match deadline {
+            Some(d) => d.saturating_duration_since(Instant::now()).min(POLL),
+            None => POLL,
+        };
+        match rx.recv_timeout(wait) {
+            Ok(value) => return Detached::Returned(value),
+            Err(RecvTimeoutError::Disconnected) => {
+                return Detached::Panicked(match handle.join() {
+                    Err(p) => panic_message(p.as_ref()),
+                    Ok(()) => "the worker ended without a result".into(),
+                });
+            }
+            Err(RecvTimeoutError::Timeout) => {}
+        }
+        match deadline {
+            Some(d) if Instant::now() >= d => return Detached::Abandoned,
+            None if stop.load(Ordering::Relaxed) => deadline = Some(Instant::now() + GRACE),
+            _ => {}
+        }
+    }
+}
+
+/// A running continuation's trace as far as it has come, for the thread that may have
+/// to go on without it: updated at every event by [`TraceCopy::watching`], at the
+/// cost of what the event added ([`Trace::update`]).
+#[derive(Clone, Default)]
+pub struct TraceCopy(Arc<Mutex<Option<Trace>>>);
+
+impl TraceCopy {
+    /// Bring the copy up to date with `trace`.
+    pub fn publish(&self, trace: &Trace) {
+        let Ok(mut copy) = self.0.lock() else { return };
+        match &mut *copy {
+            Some(c) => trace.update(c),
+            None => *copy = Some(trace.clone()),
+        }
+    }
+
+    /// The curve as far as the copy goes (`None` before the first event), its open
+    /// segment ended "stopped" ([`Trace::into_stopped_curve`]).
+    pub fn stopped_curve(&self, model: &str, stability_checked: bool) -> Option<Curve> {
+        let trace = self.0.lock().ok()?.take()?;
+        Some(trace.into_stopped_curve(model, stability_checked))
+    }
+
+    /// An observer that publishes every event's trace here, then asks `inner`.
+    pub fn watching<'a, O: Observer + 'a>(&'a self, inner: O) -> impl Observer + 'a {
+        Watching { copy: self, inner }
+    }
+}
+
+struct Watching<'a, O> {
+    copy: &'a TraceCopy,
+    inner: O,
+}
+
+impl<O: Observer> Observer for Watching<'_, O> {
+    fn observe(&mut self, event: &Event, trace: &Trace) -> crate::continuation::Control {
+        self.copy.publish(trace);
+        self.inner.observe(event, trace)
+    }
+}
+
+fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn work_that_returns_is_waited_for() {
+        let stop = AtomicBool::new(false);
+        assert!(matches!(run(&stop, || 6 * 7), Detached::Returned(42)));
+    }
+
+    #[test]
+    fn work_that_ignores_the_flag_is_abandoned_within_the_grace_period() {
+        let stop = AtomicBool::new(true);
+        let t = Instant::now();
+        let r = run(&stop, || std::thread::sleep(Duration::from_secs(30)));
+        assert!(matches!(r, Detached::Abandoned));
+        let waited = t.elapsed();
+        assert!(waited >= GRACE && waited < GRACE + Duration::from_secs(2), "{waited:?}");
+    }
+
+    #[test]
+    fn a_panic_is_reported_not_propagated() {
+        let stop = AtomicBool::new(false);
+        let r = run(&stop, || -> u8 { panic!("boom") });
+        assert!(matches!(r, Detached::Panicked(m) if m == "boom"));
+    }
+}
