@@ -57,3 +57,29 @@ pub use half_car::HalfCar;
 pub use quadratic::Quadratic;
 pub use quarter_car::QuarterCar;
 pub use van_der_pol::VanDerPol;
+
+use crate::model::BoxedModel;
+
+/// Every built-in model with its default parameters, in the order `ihbm models` lists
+/// them, each under its own [`Model::name`](crate::Model::name): the one list the
+/// command line, studies and Python take the built-in models from.
+///
+/// ```
+/// use ihbm::Model;
+///
+/// let names: Vec<String> = ihbm::models::builtin().iter().map(|m| m.name().to_string()).collect();
+/// assert_eq!(names[0], "quarter-car");
+/// assert!(names.iter().any(|n| n == "half-car"));
+/// ```
+pub fn builtin() -> Vec<BoxedModel> {
+    vec![
+        BoxedModel::new(QuarterCar::default()),
+        BoxedModel::new(Duffing::default()),
+        BoxedModel::new(FractionalDuffing::default()),
+        BoxedModel::new(TwoMassChain::default()),
+        BoxedModel::new(BaseExcited::default()),
+        BoxedModel::new(Quadratic::default()),
+        BoxedModel::new(VanDerPol::default()),
+        BoxedModel::new(HalfCar::default()),
+    ]
+}

@@ -14,16 +14,21 @@ use ihbm::backbone::FamilyOptions;
 use ihbm::bifurcation::Boundary;
 use ihbm::bifurcation::{FoldCurves, FoldEvent};
 use ihbm::continuation::{Control, Event, Observer, Trace};
+use ihbm::engine::detach::{self, Detached, TraceCopy};
+use ihbm::engine::progress;
 use ihbm::engine::registry::{AnyModel, Registered, Registry};
 use ihbm::engine::{
     self, ArgNames, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
     SweepSettings,
 };
+use ihbm::model::BoxedModel;
 use ihbm::results::Curve;
 use ihbm::runtime::RuntimeModel;
-use ihbm::{report, Cli, Error};
+use ihbm::{report, Error};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
@@ -107,6 +112,12 @@ impl Watch {
     }
 }
 
+impl Observer for &mut Watch {
+    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
+        (**self).observe(event, trace)
+    }
+}
+
 impl Observer for Watch {
     fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
         let value = match *event {
@@ -165,8 +176,73 @@ fn curve_columns<'py>(py: Python<'py>, c: &Curve) -> PyResult<Bound<'py, PyDict>
 /// exception that stopped it early (Ctrl-C, or the progress callback's), if any.
 type SweepOut<'py> = (String, Bound<'py, PyDict>, Option<Py<PyAny>>);
 
-fn sweep_out<'py>(py: Python<'py>, curve: &Curve, watch: Watch) -> PyResult<SweepOut<'py>> {
-    Ok((json_text(&report::sweep_json(curve)), curve_columns(py, curve)?, watch.stopped_by(py)))
+fn sweep_out<'py>(
+    py: Python<'py>,
+    curve: &Curve,
+    stopped_by: Option<Py<PyAny>>,
+) -> PyResult<SweepOut<'py>> {
+    Ok((json_text(&report::sweep_json(curve)), curve_columns(py, curve)?, stopped_by))
+}
+
+/// Trace a curve of `model` on a thread of its own while this one, without the GIL,
+/// looks for Python's signals every few milliseconds (signal handlers run on the
+/// main thread only): Ctrl-C stops the curve at its next point or, when that does not
+/// come within the grace period (one point of a large problem can take minutes),
+/// keeps it as far as its last point. The curve, and the exception that stopped it.
+fn traced<F>(
+    py: Python<'_>,
+    model: Box<dyn AnyModel>,
+    stability_checked: bool,
+    progress: Option<Py<PyAny>>,
+    trace: F,
+) -> PyResult<(Curve, Option<Py<PyAny>>)>
+where
+    F: FnOnce(&dyn AnyModel, &mut dyn Observer) -> ihbm::Result<Curve> + Send + 'static,
+{
+    let name = model.name().to_string();
+    let copy = TraceCopy::default();
+    let stop = Arc::new(AtomicBool::new(false));
+    let work = {
+        let (copy, stop) = (copy.clone(), Arc::clone(&stop));
+        move || {
+            let mut watch = Watch::new(progress);
+            let curve = {
+                let mut observer =
+                    copy.watching(progress::Stoppable { inner: &mut watch, stop: &stop });
+                trace(model.as_ref(), &mut observer)
+            };
+            (curve, watch.stopped_by)
+        }
+    };
+    let mut caught: Option<PyErr> = None;
+    let ran = py.detach(|| {
+        detach::run_polled(
+            || {
+                if caught.is_none() {
+                    caught = Python::attach(|py| py.check_signals()).err();
+                    stop.store(caught.is_some(), Ordering::Relaxed);
+                }
+                caught.is_some()
+            },
+            work,
+        )
+    });
+    // A Ctrl-C after the last look counts too: the whole result then goes with it
+    // instead of being lost to a KeyboardInterrupt raised after the call.
+    let value = |e: PyErr| Some(e.into_value(py).into_any());
+    match ran {
+        Detached::Returned((curve, by)) => {
+            let curve = curve.map_err(py_err)?;
+            Ok((curve, by.or(caught).or_else(|| py.check_signals().err()).and_then(value)))
+        }
+        Detached::Abandoned => match copy.stopped_curve(&name, stability_checked) {
+            Some(curve) => Ok((curve, caught.and_then(value))),
+            None => {
+                Err(caught.unwrap_or_else(|| IhbmError::new_err("stopped before the first point")))
+            }
+        },
+        Detached::Panicked(why) => Err(pyo3::exceptions::PyRuntimeError::new_err(why)),
+    }
 }
 
 /// A model: built in, read from a model file, or from text.
@@ -212,13 +288,13 @@ impl NativeModel {
     fn new(text: &str, origin: &str) -> PyResult<Self> {
         let m = RuntimeModel::from_text(text, origin).map_err(py_err)?;
         let name = ihbm::Model::name(&m).to_string();
-        Ok(NativeModel { model: Box::new(Registered::new(&name, m)) })
+        Ok(NativeModel { model: Box::new(Registered::new(&name, BoxedModel::new(m))) })
     }
 
     /// A built-in model by name.
     #[staticmethod]
     fn builtin(name: &str) -> PyResult<Self> {
-        Ok(NativeModel { model: Cli::builtin().registry().get(name).map_err(py_err)? })
+        Ok(NativeModel { model: Registry::builtin().get(name).map_err(py_err)? })
     }
 
     /// A model file (`*.ihbm`).
@@ -226,7 +302,7 @@ impl NativeModel {
     fn file(path: &str) -> PyResult<Self> {
         let m = RuntimeModel::from_file(std::path::Path::new(path)).map_err(py_err)?;
         let name = ihbm::Model::name(&m).to_string();
-        Ok(NativeModel { model: Box::new(Registered::new(&name, m)) })
+        Ok(NativeModel { model: Box::new(Registered::new(&name, BoxedModel::new(m))) })
     }
 
     #[getter]
@@ -294,9 +370,11 @@ impl NativeModel {
         let s = sweep_settings(harmonics, settings)?;
         // The engine checks again inside; this run of its checks names the keywords.
         engine::sweep_options(&PY_NAMES, omega_from, omega_to, &s).map_err(py_err)?;
-        let mut watch = Watch::new(progress);
-        let curve = py.detach(|| m.sweep(omega_from, omega_to, &s, &mut watch)).map_err(py_err)?;
-        sweep_out(py, &curve, watch)
+        let checked = s.checks_stability();
+        let (curve, stopped_by) = traced(py, m, checked, progress, move |m, watch| {
+            m.sweep(omega_from, omega_to, &s, watch)
+        })?;
+        sweep_out(py, &curve, stopped_by)
     }
 
     /// As `sweep`, for a parameter sweep at fixed Ω.
@@ -317,10 +395,12 @@ impl NativeModel {
         let m = self.configured(&set)?;
         let s = sweep_settings(harmonics, settings)?;
         engine::sweep_param_options(&PY_NAMES, omega, &s).map_err(py_err)?;
-        let r = ParamRange { param, from: value_from, to: value_to, omega };
-        let mut watch = Watch::new(progress);
-        let curve = py.detach(|| m.sweep_param(&r, &s, &mut watch)).map_err(py_err)?;
-        sweep_out(py, &curve, watch)
+        let (checked, param) = (s.checks_stability(), param.to_string());
+        let (curve, stopped_by) = traced(py, m, checked, progress, move |m, watch| {
+            let r = ParamRange { param: &param, from: value_from, to: value_to, omega };
+            m.sweep_param(&r, &s, watch)
+        })?;
+        sweep_out(py, &curve, stopped_by)
     }
 
     /// The simulate JSON: time integration from rest.
@@ -448,9 +528,7 @@ impl NativeModel {
 /// The built-in models' names.
 #[pyfunction]
 fn builtin_names() -> Vec<String> {
-    let cli = Cli::builtin();
-    let reg: &Registry = cli.registry();
-    reg.names().into_iter().map(String::from).collect()
+    Registry::builtin().names().into_iter().map(String::from).collect()
 }
 
 #[pymodule]

@@ -79,21 +79,10 @@ impl Cli {
         Cli::default()
     }
 
-    /// The `ihbm` binary's command line: every built-in model registered.
+    /// The `ihbm` binary's command line: every built-in model registered
+    /// ([`crate::models::builtin`]).
     pub fn builtin() -> Self {
-        use crate::models::{
-            BaseExcited, Duffing, FractionalDuffing, HalfCar, Quadratic, QuarterCar, TwoMassChain,
-            VanDerPol,
-        };
-        Cli::new()
-            .own_name::<QuarterCar>()
-            .own_name::<Duffing>()
-            .own_name::<FractionalDuffing>()
-            .own_name::<TwoMassChain>()
-            .own_name::<BaseExcited>()
-            .own_name::<Quadratic>()
-            .own_name::<VanDerPol>()
-            .own_name::<HalfCar>()
+        Cli { registry: Registry::builtin() }
     }
 
     /// Register `M::default()` under its own [`Model::name`].

@@ -41,6 +41,16 @@ where
     T: Send + 'static,
     F: FnOnce() -> T + Send + 'static,
 {
+    run_polled(|| stop.load(Ordering::Relaxed), work)
+}
+
+/// [`run`], asking `stopped` every few milliseconds instead of reading a flag (a
+/// front end that must look for signals itself, as Python's main thread does).
+pub fn run_polled<T, F>(mut stopped: impl FnMut() -> bool, work: F) -> Detached<T>
+where
+    T: Send + 'static,
+    F: FnOnce() -> T + Send + 'static,
+{
     let (tx, rx) = mpsc::channel();
     let spawned = std::thread::Builder::new().name("ihbm-work".into()).spawn(move || {
         // A send fails only once the waiter has gone: the result is not wanted.
@@ -71,7 +81,7 @@ where
         }
         match deadline {
             Some(d) if Instant::now() >= d => return Detached::Abandoned,
-            None if stop.load(Ordering::Relaxed) => deadline = Some(Instant::now() + GRACE),
+            None if stopped() => deadline = Some(Instant::now() + GRACE),
             _ => {}
         }
     }

@@ -94,9 +94,9 @@ pub struct Registered {
 }
 
 impl Registered {
-    /// Wrap `model` under `name`.
-    pub fn new<M: Model + Clone + 'static>(name: &str, model: M) -> Self {
-        Registered { name: name.to_string(), model: BoxedModel::new(model) }
+    /// Register `model` under `name`.
+    pub fn new(name: &str, model: BoxedModel) -> Self {
+        Registered { name: name.to_string(), model }
     }
 
     /// Errors name the registered model, not the type's own name.
@@ -229,8 +229,24 @@ impl Registry {
     /// Register `M::default()` under `name` (a later registration of the same name
     /// replaces the earlier one).
     pub fn add<M: Model + Default + Clone + 'static>(&mut self, name: &str) {
+        self.add_boxed(name, BoxedModel::new(M::default()));
+    }
+
+    /// Every built-in model ([`crate::models::builtin`]), under its own name.
+    pub fn builtin() -> Self {
+        let mut reg = Registry::default();
+        for model in crate::models::builtin() {
+            let name = model.name().to_string();
+            reg.add_boxed(&name, model);
+        }
+        reg
+    }
+
+    /// Register `model` (with its current parameter values) under `name`, replacing
+    /// an earlier registration of the name.
+    pub fn add_boxed(&mut self, name: &str, model: BoxedModel) {
         self.entries.retain(|e| e.name() != name);
-        self.entries.push(Box::new(Registered::new(name, M::default())));
+        self.entries.push(Box::new(Registered::new(name, model)));
     }
 
     /// Registered names, in order.
@@ -259,7 +275,7 @@ impl Registry {
             };
             let model = RuntimeModel::from_file(&path)?;
             let own = model.name().to_string();
-            return Ok(Box::new(Registered::new(&own, model)));
+            return Ok(Box::new(Registered::new(&own, BoxedModel::new(model))));
         }
         self.entries.iter().find(|e| e.name() == name).map(|e| e.clone_box()).ok_or_else(|| {
             Error::UnknownModel { name: name.to_string(), known: self.names().join(", ") }
