@@ -154,6 +154,12 @@ pub enum Error {
     #[error("model '{model}': {claim} is wrong: {detail}")]
     WrongClaim { model: String, claim: Claim, detail: String },
 
+    /// A path that could not start where that fails the whole computation (a
+    /// backbone that did not leave its linear mode, a limit cycle that did not
+    /// converge at the start of a family): the reason, as a path's end would give it.
+    #[error(transparent)]
+    Stall(#[from] Stall),
+
     /// Anything else with a message.
     #[error("{0}")]
     Other(String),
@@ -413,6 +419,28 @@ pub enum Stall {
         /// Why.
         cause: Box<Stall>,
     },
+    /// A backbone did not start at its linear mode.
+    #[error(
+        "the backbone of mode {mode} did not start at the linear mode (ω = {omega:.6} rad/s): {cause}"
+    )]
+    ModeStart {
+        /// The mode (1-based).
+        mode: usize,
+        /// Its linear natural frequency, rad/s.
+        omega: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// A family's first limit cycle did not converge at the first parameter value.
+    #[error("the limit cycle at {parameter} = {value} did not converge: {cause}")]
+    CycleStart {
+        /// The parameter's name.
+        parameter: String,
+        /// Its first value.
+        value: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
     /// The Floquet exponents at a torus point, for its torus frequency, failed.
     #[error("no Floquet exponents at the torus point: {cause}")]
     TorusExponents {
@@ -465,6 +493,7 @@ impl From<Error> for Stall {
     /// Hill's method keep their kind, anything else its message.
     fn from(e: Error) -> Stall {
         match e {
+            Error::Stall(s) => s,
             Error::NonFiniteCoefficient { model, term, value, omega, params } => {
                 Stall::Coefficient { model, term, value, omega, params }
             }
@@ -697,6 +726,17 @@ mod tests {
                 format!("the start fold at Ω = {w:.6} did not converge: {why}"),
             ),
             (
+                Stall::ModeStart { mode: 2, omega: w, cause: inner() },
+                format!(
+                    "the backbone of mode {} did not start at the linear mode (ω = {:.6} rad/s): {why}",
+                    2, w
+                ),
+            ),
+            (
+                Stall::CycleStart { parameter: "mu".into(), value: lo, cause: inner() },
+                format!("the limit cycle at {} = {lo} did not converge: {why}", "mu"),
+            ),
+            (
                 Stall::TorusExponents { cause: Box::new(Stall::Hill { omega: w, failure: hill.clone() }) },
                 format!(
                     "no Floquet exponents at the torus point: {}",
@@ -723,10 +763,13 @@ mod tests {
         ];
         for (stall, text) in cases {
             assert_eq!(stall.to_string(), text, "{stall:?}");
+            // An error that is a stall reads as the stall.
+            assert_eq!(Error::from(stall).to_string(), text);
         }
     }
 
-    /// An error met while tracing keeps its kind as a reason.
+    /// An error met while tracing keeps its kind as a reason, and a stall made an
+    /// error comes back unchanged.
     #[test]
     fn an_error_met_on_a_path_becomes_its_reason() {
         let coefficient = Error::NonFiniteCoefficient {
@@ -742,6 +785,8 @@ mod tests {
             matches!(&s, Stall::Coefficient { term, omega, .. } if term == "ln(k)" && *omega == 2.0)
         );
         assert_eq!(s.to_string(), text);
+        let step = Stall::StepLimit { steps: 7 };
+        assert_eq!(Stall::from(Error::from(step.clone())), step);
         let other = Error::Other("something else".into());
         assert_eq!(Stall::from(other), Stall::Other("something else".into()));
     }

@@ -209,8 +209,10 @@ pub fn cycles_with<M: Model + Clone>(
     y.extend([start.omega / sys.so, from / scale, q.ln()]);
     let mut ep = vec![0.0; n + 3];
     ep[n + 1] = 1.0;
-    sys.correct(&mut y, &ep, from / scale, LOCATE_ITER).map_err(|why| {
-        Error::Other(format!("the limit cycle at {} = {from} did not converge: {why}", opts.param))
+    sys.correct(&mut y, &ep, from / scale, LOCATE_ITER).map_err(|why| Stall::CycleStart {
+        parameter: opts.param.clone(),
+        value: from,
+        cause: Box::new(why),
     })?;
     let mut t = sys.tangent();
     let dir = (to - from).signum();

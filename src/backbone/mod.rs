@@ -351,10 +351,7 @@ fn trace<M: Model>(
     eu[n + 2] = 1.0;
     let u0 = y[n + 2];
     sys.correct(&mut y, &eu, u0, opts.max_iter.max(LOCATE_ITER)).map_err(|why| {
-        Error::Other(format!(
-            "the backbone of mode {} did not start at the linear mode (ω = {:.6} rad/s): {why}",
-            opts.mode, lm.omega
-        ))
+        Stall::ModeStart { mode: opts.mode, omega: lm.omega, cause: Box::new(why) }
     })?;
     let eval = OutputEval::new(model, nh);
     let mut t = sys.tangent();
