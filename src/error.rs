@@ -108,7 +108,7 @@ pub enum Error {
     /// A coefficient of the model (a function of parameters and Ω) is NaN or infinite
     /// where the model is evaluated: a square root of a negative number, a logarithm
     /// of a non-positive one, a division by zero.
-    #[error("model '{model}': the coefficient `{term}` is {value} at Ω = {} rad/s ({params}); a coefficient must be finite wherever the model is evaluated: choose a frequency range and parameter values where it is defined", Num(*.omega))]
+    #[error(fmt = coefficient)]
     NonFiniteCoefficient {
         /// The model's name.
         model: String,
@@ -143,10 +143,9 @@ pub enum Error {
     /// A study file that does not parse.
     #[error("{0}")]
     Study(String),
-    /// Anything else with a message.
     /// Hill's method found no exponents at a point (the point's stability is then
     /// `Unknown` with this as its reason).
-    #[error("Hill's method at Ω = {}: {failure}", Num(*.omega))]
+    #[error(fmt = hill)]
     Hill { omega: f64, failure: HillFailure },
 
     /// A model's structure claim ([`crate::model::Model::affine_signals`],
@@ -155,6 +154,13 @@ pub enum Error {
     #[error("model '{model}': {claim} is wrong: {detail}")]
     WrongClaim { model: String, claim: Claim, detail: String },
 
+    /// A path that could not start where that fails the whole computation (a
+    /// backbone that did not leave its linear mode, a limit cycle that did not
+    /// converge at the start of a family): the reason, as a path's end would give it.
+    #[error(transparent)]
+    Stall(#[from] Stall),
+
+    /// Anything else with a message.
     #[error("{0}")]
     Other(String),
 }
@@ -199,5 +205,589 @@ impl std::fmt::Display for Claim {
             Claim::ExplicitOmega => "explicit_omega()",
             Claim::SignalReads => "signal_reads()",
         })
+    }
+}
+
+/// The text of [`Error::NonFiniteCoefficient`] and [`Stall::Coefficient`].
+fn coefficient(
+    model: &str,
+    term: &str,
+    value: &f64,
+    omega: &f64,
+    params: &str,
+    f: &mut std::fmt::Formatter<'_>,
+) -> std::fmt::Result {
+    write!(
+        f,
+        "model '{model}': the coefficient `{term}` is {value} at Ω = {} rad/s ({params}); a \
+         coefficient must be finite wherever the model is evaluated: choose a frequency range \
+         and parameter values where it is defined",
+        Num(*omega)
+    )
+}
+
+/// The text of [`Error::Hill`] and [`Stall::Hill`].
+fn hill(omega: &f64, failure: &HillFailure, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+    write!(f, "Hill's method at Ω = {}: {failure}", Num(*omega))
+}
+
+/// Why a traced path could not go on, or could not start: a segment of a curve
+/// ([`SegmentEnd::Stalled`](crate::results::SegmentEnd::Stalled)), a fold curve, a
+/// backbone, a family of limit cycles. Each reason keeps what was known where it
+/// happened, numbers as numbers; its text is what the reports show after `stalled: `.
+///
+/// The corrector's own failures come first; then a point where the model is not
+/// evaluated (outside the range traced, a coefficient that is not finite); then the
+/// ends of a path that are not a corrector's failure; last, what was being done when
+/// another reason stopped it (`cause`, shown after a colon).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Stall {
+    /// Newton's updates stopped shrinking: from the third iteration on, one more than
+    /// half the one before, not the quadratic convergence a correct Jacobian gives
+    /// near a solution (more iterations would not help).
+    #[error("Newton not contracting at Ω = {omega:.6} (step {step:.2e} after {previous:.2e})")]
+    NotContracting {
+        /// Ω at the last iterate, rad/s.
+        omega: f64,
+        /// The max-norm of the last update (scaled unknowns).
+        step: f64,
+        /// The max-norm of the update before it.
+        previous: f64,
+    },
+    /// Newton used its whole budget of iterations.
+    #[error("no convergence in {iterations} iterations at Ω = {omega:.6}")]
+    NoConvergence {
+        /// The budget.
+        iterations: usize,
+        /// Ω at the last iterate, rad/s.
+        omega: f64,
+    },
+    /// A matrix the corrector factors is singular (or its factorisation not finite).
+    #[error(fmt = singular)]
+    Singular {
+        /// Which.
+        matrix: Matrix,
+        /// Ω where it was assembled, rad/s.
+        omega: f64,
+    },
+    /// A value the corrector computed is NaN or infinite.
+    #[error(fmt = non_finite)]
+    NonFinite {
+        /// Which.
+        quantity: Quantity,
+        /// Ω where (or near where, for an update) it was computed, rad/s.
+        omega: f64,
+    },
+    /// The test matrix of a fold (or period-doubling) curve's start gave no null
+    /// vector to border it with.
+    #[error("no null vector at the start at Ω = {omega:.6}")]
+    NoNullVector {
+        /// Ω of the start, rad/s.
+        omega: f64,
+    },
+    /// Hill's operator `T(iω)` at a torus curve's start gave no null vector to border
+    /// it with.
+    #[error("no null vector of T(iω) at Ω = {omega:.6}")]
+    NoHillNullVector {
+        /// Ω of the start, rad/s.
+        omega: f64,
+    },
+
+    /// An iterate left the range of the continuation parameter (the model is never
+    /// evaluated outside it).
+    #[error("an iterate left the range [{lo}, {hi}] (at {at:.6e})")]
+    LeftRange {
+        /// The range's lower end.
+        lo: f64,
+        /// Its upper end.
+        hi: f64,
+        /// The iterate's value of the parameter.
+        at: f64,
+    },
+    /// An iterate of a fold curve left its frequency range.
+    #[error("an iterate left the frequency range (Ω = {omega:.6e})")]
+    LeftFrequencyRange {
+        /// The iterate's Ω, rad/s.
+        omega: f64,
+    },
+    /// An iterate of a fold curve left the range of its parameter.
+    #[error("an iterate left the parameter range (at {at:.6e})")]
+    LeftParameterRange {
+        /// The iterate's value of the parameter.
+        at: f64,
+    },
+    /// An iterate of a nonlinear mode or limit cycle has a frequency or a modal
+    /// amplitude that is not positive and finite.
+    #[error("the iterate left the physical range (ω = {omega:e}, q = {amplitude:e})")]
+    LeftPhysicalRange {
+        /// Its frequency ω, rad/s.
+        omega: f64,
+        /// Its modal amplitude q.
+        amplitude: f64,
+    },
+    /// The parameter of a family of limit cycles became NaN or infinite.
+    #[error("the parameter left the finite range ({value:e})")]
+    ParameterNotFinite {
+        /// Its value.
+        value: f64,
+    },
+    /// A torus curve's torus frequency left `(0, Ω/2)`.
+    #[error("the torus frequency left (0, Ω/2) (ω = {torus:.6e} at Ω = {omega:.6})")]
+    LeftTorusRange {
+        /// The torus frequency ω, rad/s.
+        torus: f64,
+        /// The forcing frequency Ω, rad/s.
+        omega: f64,
+    },
+    /// A coefficient of the model is not finite at an iterate
+    /// ([`Error::NonFiniteCoefficient`], which names the same).
+    #[error(fmt = coefficient)]
+    Coefficient {
+        /// The model's name.
+        model: String,
+        /// The coefficient's source text.
+        term: String,
+        /// Its value (NaN or ±inf).
+        value: f64,
+        /// The frequency where it was evaluated (rad/s).
+        omega: f64,
+        /// The parameters it reads, `name = value, ...` ("none" if it reads none).
+        params: String,
+    },
+    /// Hill's method failed where a torus curve needs it ([`Error::Hill`]).
+    #[error(fmt = hill)]
+    Hill {
+        /// Ω, rad/s.
+        omega: f64,
+        /// Why.
+        failure: HillFailure,
+    },
+    /// Another error met on the way (a model's own check of its coefficients), as
+    /// its message.
+    #[error("{0}")]
+    Other(String),
+
+    /// The cap on accepted steps was reached.
+    #[error("step limit {steps} reached")]
+    StepLimit {
+        /// The cap.
+        steps: usize,
+    },
+    /// A limit cycle's backbone never reached zero artificial damping: the mode has
+    /// no limit cycle (up to the amplitude, or within the step limit).
+    #[error(fmt = damping_kept_sign)]
+    DampingKeptSign {
+        /// The artificial damping ξ at the last point.
+        xi: f64,
+        /// The output continued.
+        output: String,
+        /// Its `max |x|` there.
+        amplitude: f64,
+        /// The step limit, when that is what ended it.
+        steps: Option<usize>,
+    },
+    /// At a located torus point no pair of Floquet exponents lies away from 0 and
+    /// ±Ω/2: no torus frequency to start its curve with.
+    #[error("no complex pair of exponents at the torus point Ω = {omega:.6}")]
+    NoComplexPair {
+        /// Ω of the torus point, rad/s.
+        omega: f64,
+    },
+
+    /// No solution at the first value of a segment.
+    #[error("no solution at the start {}: {cause}", Num(*.at))]
+    NoStart {
+        /// The value of the continuation parameter.
+        at: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// No point of a switched branch beside the solution it leaves.
+    #[error("no branch found at Ω = {omega}: {cause}")]
+    NoBranch {
+        /// Ω of the branch point, rad/s.
+        omega: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// The fold (or other bifurcation) a curve starts from did not converge on the
+    /// extended system.
+    #[error("the start fold at Ω = {omega:.6} did not converge: {cause}")]
+    FoldStart {
+        /// Ω of the fold, rad/s.
+        omega: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// A backbone did not start at its linear mode.
+    #[error(
+        "the backbone of mode {mode} did not start at the linear mode (ω = {omega:.6} rad/s): {cause}"
+    )]
+    ModeStart {
+        /// The mode (1-based).
+        mode: usize,
+        /// Its linear natural frequency, rad/s.
+        omega: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// A family's first limit cycle did not converge at the first parameter value.
+    #[error("the limit cycle at {parameter} = {value} did not converge: {cause}")]
+    CycleStart {
+        /// The parameter's name.
+        parameter: String,
+        /// Its first value.
+        value: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// The Floquet exponents at a torus point, for its torus frequency, failed.
+    #[error("no Floquet exponents at the torus point: {cause}")]
+    TorusExponents {
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// Hill's operator of a torus curve could not be prepared.
+    #[error("Hill's operator at Ω = {omega:.6}: {cause}")]
+    HillOperator {
+        /// Ω, rad/s.
+        omega: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// The step that left the range did not land on its end.
+    #[error("could not land on the range end: {cause}")]
+    LandRangeEnd {
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// A backbone did not land on the amplitude asked for.
+    #[error("could not land on max |x| = {amplitude}: {cause}")]
+    LandAmplitude {
+        /// The amplitude (`max |x|` of the output continued).
+        amplitude: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// A family of limit cycles did not land on the end of its parameter range.
+    #[error("could not land on {parameter} = {value}: {cause}")]
+    LandParameter {
+        /// The parameter's name.
+        parameter: String,
+        /// The end of the range.
+        value: f64,
+        /// Why.
+        cause: Box<Stall>,
+    },
+    /// A limit cycle's backbone crossed zero artificial damping, but the crossing was
+    /// not located.
+    #[error("could not locate ξ = 0: {cause}")]
+    LocateZeroDamping {
+        /// Why.
+        cause: Box<Stall>,
+    },
+}
+
+impl From<Error> for Stall {
+    /// The reason in an error met while tracing: a coefficient the model refuses and
+    /// Hill's method keep their kind, anything else its message.
+    fn from(e: Error) -> Stall {
+        match e {
+            Error::Stall(s) => s,
+            Error::NonFiniteCoefficient { model, term, value, omega, params } => {
+                Stall::Coefficient { model, term, value, omega, params }
+            }
+            Error::Hill { omega, failure } => Stall::Hill { omega, failure },
+            e => Stall::Other(e.to_string()),
+        }
+    }
+}
+
+/// A matrix the corrector factors ([`Stall::Singular`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Matrix {
+    /// The bordered Jacobian of a one-parameter continuation.
+    Bordered,
+    /// The Newton matrix of an extended system (a backbone, a family of limit cycles,
+    /// a fold curve).
+    Extended,
+    /// The bordered test function of a fold or period-doubling curve.
+    TestFunction,
+    /// The bordered complex test function of a torus curve.
+    TorusTestFunction,
+    /// Hill's operator `T(iω)` at a torus curve's start (exactly singular: a nearly
+    /// singular one is expected there).
+    HillOperator,
+}
+
+fn singular(matrix: &Matrix, omega: &f64, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+    let omega = *omega;
+    match matrix {
+        Matrix::Bordered => write!(f, "singular bordered Jacobian at Ω = {}", Num(omega)),
+        Matrix::Extended => write!(f, "singular extended Jacobian at Ω = {omega:.6}"),
+        Matrix::TestFunction => write!(f, "singular bordered test function at Ω = {omega:.6}"),
+        Matrix::TorusTestFunction => {
+            write!(f, "singular bordered torus test function at Ω = {omega:.6}")
+        }
+        Matrix::HillOperator => write!(f, "Hill's operator is exactly singular at Ω = {omega:.6}"),
+    }
+}
+
+/// A value the corrector computes ([`Stall::NonFinite`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// The residual.
+    Residual,
+    /// A Newton update.
+    NewtonStep,
+    /// A chord update (the residual solved with the LU of an earlier Newton step).
+    ChordStep,
+    /// The complex test function of a torus curve.
+    TorusTestFunction,
+    /// The test matrix at a fold (or period-doubling) curve's start (its
+    /// factorisation).
+    StartJacobian,
+}
+
+fn non_finite(
+    quantity: &Quantity,
+    omega: &f64,
+    f: &mut std::fmt::Formatter<'_>,
+) -> std::fmt::Result {
+    // An update moves the iterate: it is near Ω, not at it.
+    let (what, at) = match quantity {
+        Quantity::Residual => ("residual", "at"),
+        Quantity::NewtonStep => ("Newton step", "near"),
+        Quantity::ChordStep => ("chord step", "near"),
+        Quantity::TorusTestFunction => ("torus test function", "at"),
+        Quantity::StartJacobian => ("Jacobian at the start", "at"),
+    };
+    write!(f, "non-finite {what} {at} Ω = {omega:.6}")
+}
+
+fn damping_kept_sign(
+    xi: &f64,
+    output: &str,
+    amplitude: &f64,
+    steps: &Option<usize>,
+    f: &mut std::fmt::Formatter<'_>,
+) -> std::fmt::Result {
+    write!(f, "the artificial damping kept its sign (ξ = {xi:.6e}) up to max |{output}| = {amplitude:.3e}")?;
+    if let Some(n) = steps {
+        write!(f, " ({n} steps)")?;
+    }
+    f.write_str(": no limit cycle of this mode")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every reason reads as the sentence the solvers wrote before it had a type (each
+    /// expected text is built by the `format!` that built it then), so reports,
+    /// summaries and JSON show the same words.
+    #[test]
+    fn a_stall_reads_as_the_sentence_it_replaced() {
+        let (w, lo, hi, at) = (1.2345678, 0.5, 2.5, 2.7654321);
+        let inner = || Box::new(Stall::NoConvergence { iterations: 30, omega: w });
+        let why = format!("no convergence in {} iterations at Ω = {w:.6}", 30);
+        let hill = HillFailure::RootCount("no contour".into());
+        let cases: Vec<(Stall, String)> = vec![
+            (
+                Stall::NotContracting { omega: w, step: 3e-3, previous: 4e-3 },
+                format!("Newton not contracting at Ω = {w:.6} (step {:.2e} after {:.2e})", 3e-3, 4e-3),
+            ),
+            (*inner(), why.clone()),
+            (
+                Stall::Singular { matrix: Matrix::Bordered, omega: w },
+                format!("singular bordered Jacobian at Ω = {}", Num(w)),
+            ),
+            (
+                Stall::Singular { matrix: Matrix::Bordered, omega: 1e-9 },
+                "singular bordered Jacobian at Ω = 1e-9".to_string(),
+            ),
+            (
+                Stall::Singular { matrix: Matrix::Extended, omega: w },
+                format!("singular extended Jacobian at Ω = {w:.6}"),
+            ),
+            (
+                Stall::Singular { matrix: Matrix::TestFunction, omega: w },
+                format!("singular bordered test function at Ω = {w:.6}"),
+            ),
+            (
+                Stall::Singular { matrix: Matrix::TorusTestFunction, omega: w },
+                format!("singular bordered torus test function at Ω = {w:.6}"),
+            ),
+            (
+                Stall::Singular { matrix: Matrix::HillOperator, omega: w },
+                format!("Hill's operator is exactly singular at Ω = {w:.6}"),
+            ),
+            (
+                Stall::NonFinite { quantity: Quantity::Residual, omega: w },
+                format!("non-finite residual at Ω = {w:.6}"),
+            ),
+            (
+                Stall::NonFinite { quantity: Quantity::NewtonStep, omega: w },
+                format!("non-finite {} near Ω = {w:.6}", "Newton step"),
+            ),
+            (
+                Stall::NonFinite { quantity: Quantity::ChordStep, omega: w },
+                format!("non-finite {} near Ω = {w:.6}", "chord step"),
+            ),
+            (
+                Stall::NonFinite { quantity: Quantity::TorusTestFunction, omega: w },
+                format!("non-finite torus test function at Ω = {w:.6}"),
+            ),
+            (
+                Stall::NonFinite { quantity: Quantity::StartJacobian, omega: w },
+                format!("non-finite Jacobian at the start at Ω = {w:.6}"),
+            ),
+            (Stall::NoNullVector { omega: w }, format!("no null vector at the start at Ω = {w:.6}")),
+            (Stall::NoHillNullVector { omega: w }, format!("no null vector of T(iω) at Ω = {w:.6}")),
+            (
+                Stall::LeftRange { lo, hi, at },
+                format!("an iterate left the range [{lo}, {hi}] (at {at:.6e})"),
+            ),
+            (
+                Stall::LeftFrequencyRange { omega: w },
+                format!("an iterate left the frequency range (Ω = {w:.6e})"),
+            ),
+            (
+                Stall::LeftParameterRange { at },
+                format!("an iterate left the parameter range (at {at:.6e})"),
+            ),
+            (
+                Stall::LeftPhysicalRange { omega: -w, amplitude: f64::INFINITY },
+                format!("the iterate left the physical range (ω = {:e}, q = {:e})", -w, f64::INFINITY),
+            ),
+            (
+                Stall::ParameterNotFinite { value: f64::NAN },
+                format!("the parameter left the finite range ({:e})", f64::NAN),
+            ),
+            (
+                Stall::LeftTorusRange { torus: at, omega: w },
+                format!("the torus frequency left (0, Ω/2) (ω = {at:.6e} at Ω = {w:.6})"),
+            ),
+            (
+                Stall::Coefficient {
+                    model: "gap".into(),
+                    term: "sqrt(F - 0.1)".into(),
+                    value: f64::NAN,
+                    omega: w,
+                    params: "F = 0.05".into(),
+                },
+                Error::NonFiniteCoefficient {
+                    model: "gap".into(),
+                    term: "sqrt(F - 0.1)".into(),
+                    value: f64::NAN,
+                    omega: w,
+                    params: "F = 0.05".into(),
+                }
+                .to_string(),
+            ),
+            (
+                Stall::Hill { omega: w, failure: hill.clone() },
+                Error::Hill { omega: w, failure: hill.clone() }.to_string(),
+            ),
+            (Stall::StepLimit { steps: 20000 }, format!("step limit {} reached", 20000)),
+            (
+                Stall::DampingKeptSign {
+                    xi: 0.25,
+                    output: "x".into(),
+                    amplitude: 3.5,
+                    steps: Some(400),
+                },
+                format!(
+                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e} ({} steps): no limit cycle of this mode",
+                    0.25, "x", 3.5, 400
+                ),
+            ),
+            (
+                Stall::DampingKeptSign { xi: 0.25, output: "x".into(), amplitude: 3.5, steps: None },
+                format!(
+                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
+                    0.25, "x", 3.5
+                ),
+            ),
+            (
+                Stall::NoComplexPair { omega: w },
+                format!("no complex pair of exponents at the torus point Ω = {w:.6}"),
+            ),
+            (
+                Stall::NoStart { at, cause: inner() },
+                format!("no solution at the start {}: {why}", Num(at)),
+            ),
+            (
+                Stall::NoBranch { omega: w, cause: inner() },
+                format!("no branch found at Ω = {}: {why}", w),
+            ),
+            (
+                Stall::FoldStart { omega: w, cause: inner() },
+                format!("the start fold at Ω = {w:.6} did not converge: {why}"),
+            ),
+            (
+                Stall::ModeStart { mode: 2, omega: w, cause: inner() },
+                format!(
+                    "the backbone of mode {} did not start at the linear mode (ω = {:.6} rad/s): {why}",
+                    2, w
+                ),
+            ),
+            (
+                Stall::CycleStart { parameter: "mu".into(), value: lo, cause: inner() },
+                format!("the limit cycle at {} = {lo} did not converge: {why}", "mu"),
+            ),
+            (
+                Stall::TorusExponents { cause: Box::new(Stall::Hill { omega: w, failure: hill.clone() }) },
+                format!(
+                    "no Floquet exponents at the torus point: {}",
+                    Error::Hill { omega: w, failure: hill.clone() }
+                ),
+            ),
+            (
+                Stall::HillOperator { omega: w, cause: Box::new(Stall::Hill { omega: w, failure: hill.clone() }) },
+                format!("Hill's operator at Ω = {w:.6}: {}", Error::Hill { omega: w, failure: hill }),
+            ),
+            (
+                Stall::LandRangeEnd { cause: inner() },
+                format!("could not land on the range end: {why}"),
+            ),
+            (
+                Stall::LandAmplitude { amplitude: hi, cause: inner() },
+                format!("could not land on max |x| = {hi}: {why}"),
+            ),
+            (
+                Stall::LandParameter { parameter: "mu".into(), value: hi, cause: inner() },
+                format!("could not land on {} = {hi}: {why}", "mu"),
+            ),
+            (Stall::LocateZeroDamping { cause: inner() }, format!("could not locate ξ = 0: {why}")),
+        ];
+        for (stall, text) in cases {
+            assert_eq!(stall.to_string(), text, "{stall:?}");
+            // An error that is a stall reads as the stall.
+            assert_eq!(Error::from(stall).to_string(), text);
+        }
+    }
+
+    /// An error met while tracing keeps its kind as a reason, and a stall made an
+    /// error comes back unchanged.
+    #[test]
+    fn an_error_met_on_a_path_becomes_its_reason() {
+        let coefficient = Error::NonFiniteCoefficient {
+            model: "m".into(),
+            term: "ln(k)".into(),
+            value: f64::NEG_INFINITY,
+            omega: 2.0,
+            params: "k = 0".into(),
+        };
+        let text = coefficient.to_string();
+        let s = Stall::from(coefficient);
+        assert!(
+            matches!(&s, Stall::Coefficient { term, omega, .. } if term == "ln(k)" && *omega == 2.0)
+        );
+        assert_eq!(s.to_string(), text);
+        let step = Stall::StepLimit { steps: 7 };
+        assert_eq!(Stall::from(Error::from(step.clone())), step);
+        let other = Error::Other("something else".into());
+        assert_eq!(Stall::from(other), Stall::Other("something else".into()));
     }
 }

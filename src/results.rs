@@ -5,6 +5,10 @@
 
 use serde::Serialize;
 
+/// Why a path could not go on: the reason of every `Stalled` end. It is defined in
+/// [`crate::error`], whose `Error::Stall` holds one: `error` imports nothing from here.
+pub use crate::error::Stall;
+
 /// Summary of one output over one period of a periodic solution.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OutputSummary {
@@ -30,7 +34,7 @@ pub enum SegmentEnd {
     /// The response exceeded the amplitude bound (a branch climbing an undamped asymptote).
     AmplitudeBound,
     /// The corrector failed even at the minimum step, or another failure; the reason.
-    Stalled(String),
+    Stalled(Stall),
     /// An observer stopped the run ([`Continuation::run`](crate::continuation::Continuation::run)).
     Stopped,
     /// A branch started by switching came back to the solutions it left (a

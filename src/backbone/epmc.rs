@@ -25,6 +25,7 @@ use crate::balance::Balance;
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
+use crate::results::Stall;
 use faer::prelude::ReborrowMut;
 
 /// The unknown next to ω and `u = ln q`.
@@ -171,12 +172,12 @@ impl<'m, M: Model> Epmc<'m, M> {
         y: &mut [f64],
         border: &[f64],
         target: f64,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, Stall> {
         let (n, nh, len) = (self.n, self.nh, 2 * self.nh + 1);
         self.iterations += 1;
         let (omega, xi, q) = (self.omega(y), self.xi(y), y[n + 2].exp());
         if !(omega > 0.0 && omega.is_finite() && q.is_finite() && q > 0.0) {
-            return Err(format!("the iterate left the physical range (ω = {omega:e}, q = {q:e})"));
+            return Err(Stall::LeftPhysicalRange { omega, amplitude: q });
         }
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * q;
@@ -184,11 +185,11 @@ impl<'m, M: Model> Epmc<'m, M> {
         if let Free::Param { index, .. } = self.free {
             let v = self.param(y);
             if !v.is_finite() {
-                return Err(format!("the parameter left the finite range ({v:e})"));
+                return Err(Stall::ParameterNotFinite { value: v });
             }
             self.bal.set_param(index, v);
             // a coefficient that is not finite here ends the curve, naming it
-            self.bal.check_coefficients(omega).map_err(|e| e.to_string())?;
+            self.bal.check_coefficients(omega)?;
             self.bal.d_param(&self.a, omega, index, &mut self.dp);
             self.bal.d_param(&self.zero, omega, index, &mut self.dp0);
         }
@@ -264,7 +265,7 @@ impl<'m, M: Model> Epmc<'m, M> {
         border: &[f64],
         target: f64,
         budget: usize,
-    ) -> Result<usize, String> {
+    ) -> Result<usize, Stall> {
         let tol = self.tol;
         iterate(budget, tol, |_, _| {
             let dn = self.newton_step(y, border, target)?;

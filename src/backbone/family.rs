@@ -24,7 +24,7 @@ use crate::continuation::Control;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::outputs::OutputEval;
-use crate::results::{PointOutput, Stability, Unknown};
+use crate::results::{PointOutput, Stability, Stall, Unknown};
 
 /// Settings of [`cycles`]; `param`, `from`, `to` and `omega` must be set.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,7 +111,7 @@ pub enum FamilyEnd {
     /// The cycle shrank to the equilibrium (the last point is the smallest traced).
     Collapsed,
     /// The corrector failed at the smallest step, or the step limit; the reason.
-    Stalled(String),
+    Stalled(Stall),
     /// An observer stopped it.
     Stopped,
 }
@@ -209,8 +209,10 @@ pub fn cycles_with<M: Model + Clone>(
     y.extend([start.omega / sys.so, from / scale, q.ln()]);
     let mut ep = vec![0.0; n + 3];
     ep[n + 1] = 1.0;
-    sys.correct(&mut y, &ep, from / scale, LOCATE_ITER).map_err(|why| {
-        Error::Other(format!("the limit cycle at {} = {from} did not converge: {why}", opts.param))
+    sys.correct(&mut y, &ep, from / scale, LOCATE_ITER).map_err(|why| Stall::CycleStart {
+        parameter: opts.param.clone(),
+        value: from,
+        cause: Box::new(why),
     })?;
     let mut t = sys.tangent();
     let dir = (to - from).signum();
@@ -279,7 +281,7 @@ pub fn cycles_with<M: Model + Clone>(
     } else {
         loop {
             if fam.points.len() >= opts.max_steps {
-                break FamilyEnd::Stalled(format!("step limit {} reached", opts.max_steps));
+                break FamilyEnd::Stalled(Stall::StepLimit { steps: opts.max_steps });
             }
             let (z, tn, it) = match tracer.advance(&y, &t) {
                 Ok(x) => x,
@@ -296,10 +298,11 @@ pub fn cycles_with<M: Model + Clone>(
                         fam.steps += 1;
                         FamilyEnd::Reached
                     }
-                    Err(why) => FamilyEnd::Stalled(format!(
-                        "could not land on {} = {to}: {why}",
-                        opts.param
-                    )),
+                    Err(why) => FamilyEnd::Stalled(Stall::LandParameter {
+                        parameter: opts.param.clone(),
+                        value: to,
+                        cause: Box::new(why),
+                    }),
                 };
             }
             let p = at(&mut tracer, &z);

@@ -46,7 +46,7 @@ use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
 use crate::model::Model;
 use crate::outputs::OutputEval;
-use crate::results::{PointOutput, Stability, Unknown};
+use crate::results::{PointOutput, Stability, Stall, Unknown};
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
 pub use family::{cycles, cycles_with, CycleFamily, CyclePoint, FamilyEnd, FamilyOptions, Hopf};
@@ -181,7 +181,7 @@ pub enum BackboneEnd {
     /// The output reached the requested amplitude (the last point is there).
     Reached,
     /// The corrector failed at the smallest step, or the step limit; the reason.
-    Stalled(String),
+    Stalled(Stall),
     /// An observer stopped it.
     Stopped,
 }
@@ -351,10 +351,7 @@ fn trace<M: Model>(
     eu[n + 2] = 1.0;
     let u0 = y[n + 2];
     sys.correct(&mut y, &eu, u0, opts.max_iter.max(LOCATE_ITER)).map_err(|why| {
-        Error::Other(format!(
-            "the backbone of mode {} did not start at the linear mode (ω = {:.6} rad/s): {why}",
-            opts.mode, lm.omega
-        ))
+        Stall::ModeStart { mode: opts.mode, omega: lm.omega, cause: Box::new(why) }
     })?;
     let eval = OutputEval::new(model, nh);
     let mut t = sys.tangent();
@@ -446,11 +443,13 @@ impl<M: Model> Tracer<'_, M> {
             let last =
                 res.points.last().map_or((f64::NAN, f64::NAN), |p| (p.xi, self.amplitude(p)));
             return Some(BackboneEnd::Stalled(match self.goal {
-                Goal::Amplitude(_) => format!("step limit {} reached", self.opts.max_steps),
-                Goal::ZeroDamping(_) => format!(
-                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e} ({} steps): no limit cycle of this mode",
-                    last.0, res.output_names[self.opts.output], last.1, self.opts.max_steps
-                ),
+                Goal::Amplitude(_) => Stall::StepLimit { steps: self.opts.max_steps },
+                Goal::ZeroDamping(_) => Stall::DampingKeptSign {
+                    xi: last.0,
+                    output: res.output_names[self.opts.output].clone(),
+                    amplitude: last.1,
+                    steps: Some(self.opts.max_steps),
+                },
             }));
         }
         let (z, tn, it) = match self.advance(y, t) {
@@ -460,18 +459,18 @@ impl<M: Model> Tracer<'_, M> {
         let p = self.point(&z);
         match self.goal {
             Goal::Amplitude(to) if self.amplitude(&p) >= to => {
-                return Some(self.land(y, &z, res));
+                return Some(self.land(y, &z, to, res));
             }
             Goal::ZeroDamping(_) if self.sys.xi(y) * p.xi <= 0.0 => {
                 return Some(self.land_zero_damping(y, &z, res));
             }
             Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
-                return Some(BackboneEnd::Stalled(format!(
-                    "the artificial damping kept its sign (ξ = {:.6e}) up to max |{}| = {:.3e}: no limit cycle of this mode",
-                    p.xi,
-                    res.output_names[self.opts.output],
-                    self.amplitude(&p)
-                )));
+                return Some(BackboneEnd::Stalled(Stall::DampingKeptSign {
+                    xi: p.xi,
+                    output: res.output_names[self.opts.output].clone(),
+                    amplitude: self.amplitude(&p),
+                    steps: None,
+                }));
             }
             _ => {}
         }
@@ -539,7 +538,7 @@ impl<M: Model> Tracer<'_, M> {
     /// or a turn of the tangent by more than 0.3 rad, and the corrector's reason is
     /// returned below the smallest step. Nothing is recorded: the caller accepts the
     /// point (and then calls [`Tracer::adapt`]) or not.
-    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<(Vec<f64>, Vec<f64>, usize), String> {
+    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<(Vec<f64>, Vec<f64>, usize), Stall> {
         loop {
             let h = self.h;
             let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
@@ -593,17 +592,14 @@ impl<M: Model> Tracer<'_, M> {
                 self.push(res, p);
                 BackboneEnd::Reached
             }
-            Err(why) => BackboneEnd::Stalled(format!("could not locate ξ = 0: {why}")),
+            Err(why) => BackboneEnd::Stalled(Stall::LocateZeroDamping { cause: Box::new(why) }),
         }
     }
 
     /// The point where the output's amplitude is `to`, between `y` (below) and `z`
     /// (above): secant iterations on the log amplitude, corrected at fixed `u`.
-    fn land(&mut self, y: &[f64], z: &[f64], res: &mut Backbone) -> BackboneEnd {
+    fn land(&mut self, y: &[f64], z: &[f64], to: f64, res: &mut Backbone) -> BackboneEnd {
         let n = self.sys.n;
-        let Goal::Amplitude(to) = self.goal else {
-            return BackboneEnd::Stalled("no amplitude to land on".into());
-        };
         let mut eu = vec![0.0; n + 3];
         eu[n + 2] = 1.0;
         let pa = res.points.last().map_or(0.0, |p| self.amplitude(p));
@@ -618,7 +614,10 @@ impl<M: Model> Tracer<'_, M> {
             w[n + 2] = u;
             if let Err(why) = self.sys.correct(&mut w, &eu, u, self.opts.max_iter.max(LOCATE_ITER))
             {
-                return BackboneEnd::Stalled(format!("could not land on max |x| = {to}: {why}"));
+                return BackboneEnd::Stalled(Stall::LandAmplitude {
+                    amplitude: to,
+                    cause: Box::new(why),
+                });
             }
             let p = self.point(&w);
             let f = (self.amplitude(&p) / to).ln();

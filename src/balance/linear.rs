@@ -62,11 +62,11 @@ pub(crate) fn linearized_on<M: Model>(
                 -Complex64::new(r0[e * l + k], -r0[e * l + n + k])
             };
         }
-        complex_solve(&mut t, &mut x, ndof).map_err(|detail| Error::SingularJacobian {
+        complex_solve(&mut t, &mut x, ndof).map_err(|unknown| Error::SingularJacobian {
             omega,
             detail: format!(
-                "the model linearized about zero is singular at harmonic {k} ({detail}); \
-                 give an initial guess instead"
+                "the model linearized about zero is singular at harmonic {k} (zero pivot for \
+                 unknown {unknown}); give an initial guess instead"
             ),
         })?;
         for d in 0..ndof {
@@ -81,16 +81,15 @@ pub(crate) fn linearized_on<M: Model>(
 
 /// Solve a small dense complex system (row-major `a`, right-hand side `b` overwritten
 /// by the solution). A zero pivot with a zero right-hand side gives the zero solution
-/// for that unknown.
+/// for that unknown; with any other, the unknown is the error.
 fn complex_solve(
     a: &mut [Complex64],
     b: &mut [Complex64],
     n: usize,
-) -> std::result::Result<(), String> {
+) -> std::result::Result<(), usize> {
     let scale = a.iter().fold(0.0f64, |s, z| s.max(z.norm()));
     let tiny = 1e-300 + 1e-14 * scale;
     let mut piv = vec![0; n];
     crate::linalg::complex_lu_factor(a, n, &mut piv, tiny);
     crate::linalg::complex_lu_solve_consistent(a, n, &piv, tiny, b)
-        .map_err(|k| format!("zero pivot for unknown {k}"))
 }

@@ -21,6 +21,7 @@ const RESONANCE_GAP: f64 = 1e-3;
 use crate::continuation::{AmplitudeBound, SweepOptions};
 use crate::model::Model;
 use crate::outputs::OutputEval;
+use crate::results::Stall;
 
 /// What one [`FoldCurveTracer::step`] produced.
 #[derive(Debug, Clone, PartialEq)]
@@ -58,7 +59,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         opts: &SweepOptions,
         start: (&[f64], f64, f64),
         up: bool,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, Stall> {
         let (a, omega, p) = start;
         let n = sys.n;
         sys.init_borders(a, omega, p)?;
@@ -67,7 +68,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         e_p[n + 1] = 1.0;
         let target = y[n + 1];
         sys.correct(&mut y, &e_p, target, opts.max_iter.max(LOCATE_ITER))
-            .map_err(|why| format!("the start fold at Ω = {omega:.6} did not converge: {why}"))?;
+            .map_err(|why| Stall::FoldStart { omega, cause: Box::new(why) })?;
         sys.renew_borders();
         let mut t = sys.tangent();
         if up != (t[n + 1] > 0.0) {
@@ -166,10 +167,9 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
         loop {
             if self.steps >= self.opts.max_steps {
-                return Step::Ended(CurveEnd::Stalled(format!(
-                    "step limit {} reached",
-                    self.opts.max_steps
-                )));
+                return Step::Ended(CurveEnd::Stalled(Stall::StepLimit {
+                    steps: self.opts.max_steps,
+                }));
             }
             let h = self.h;
             let mut y: Vec<f64> = y0.iter().zip(&t0).map(|(a, t)| a + h * t).collect();
@@ -287,7 +287,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
                 })
             }
             Err(why) => {
-                Step::Ended(CurveEnd::Stalled(format!("could not land on the range end: {why}")))
+                Step::Ended(CurveEnd::Stalled(Stall::LandRangeEnd { cause: Box::new(why) }))
             }
         }
     }

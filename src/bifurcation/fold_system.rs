@@ -25,8 +25,10 @@ use super::period_two::{embedding, odd_harmonics};
 use super::torus::TorusTest;
 use crate::balance::{Balance, BilinearWork};
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
+use crate::error::{Matrix, Quantity};
 use crate::linalg::DenseLu;
 use crate::model::Model;
+use crate::results::Stall;
 use faer::prelude::ReborrowMut;
 use faer::{Mat, MatMut};
 
@@ -330,7 +332,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 
     /// Unscaled point of `y` into `self.a` and the model; `(Ω, P)`, or why not (a
     /// parameter outside its range: the model is never evaluated there).
-    fn unscale(&mut self, y: &[f64]) -> Result<(f64, f64), String> {
+    fn unscale(&mut self, y: &[f64]) -> Result<(f64, f64), Stall> {
         let n = self.n;
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * self.sa;
@@ -341,21 +343,21 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             x >= lo - slack && x <= hi + slack
         };
         if !inside(omega, self.omega_range) {
-            return Err(format!("an iterate left the frequency range (Ω = {omega:.6e})"));
+            return Err(Stall::LeftFrequencyRange { omega });
         }
         if !inside(p, self.param_range) {
-            return Err(format!("an iterate left the parameter range (at {p:.6e})"));
+            return Err(Stall::LeftParameterRange { at: p });
         }
         self.bal.set_param(self.param, p);
         // a coefficient undefined here is named, not met as a non-finite residual
-        self.bal.check_coefficients(omega).map_err(|e| e.to_string())?;
+        self.bal.check_coefficients(omega)?;
         Ok((omega, p))
     }
 
     /// Fill the bordered test-function matrix at the point in `self.a` (the scaled
     /// Jacobian also into the top-left block of `lu_k`); solve for `v`, `w` and return
     /// `g`.
-    fn test_function(&mut self, omega: f64, p: f64) -> Result<f64, String> {
+    fn test_function(&mut self, omega: f64, p: f64) -> Result<f64, Stall> {
         let nt = self.nt;
         let mut lu_m = std::mem::replace(&mut self.lu_m, DenseLu::new(0));
         {
@@ -381,7 +383,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         self.x = x;
         self.lu_m = lu_m;
         if pivots.is_nan() || pivots <= 1e-15 {
-            return Err(format!("singular bordered test function at Ω = {omega:.6}"));
+            return Err(Stall::Singular { matrix: Matrix::TestFunction, omega });
         }
         Ok(g)
     }
@@ -432,17 +434,13 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         y: &mut [f64],
         border: &[f64],
         target: f64,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, Stall> {
         let n = self.n;
         let d = self.dim();
         self.iterations += 1;
         let (omega, p) = self.unscale(y)?;
         // rows n..d-1: the test function (one real row, or two for a complex one)
-        if matches!(self.test, TestMatrix::Torus { .. }) {
-            self.torus_rows(y, omega, p)?;
-        } else {
-            self.real_row(omega, p)?;
-        }
+        self.test_rows(y, omega, p)?;
         self.bal.d_omega(&self.a, omega, &mut self.d_omega);
         self.bal.d_param(&self.a, omega, self.param, &mut self.d_param);
         let dpy = self.dp_dy(p);
@@ -465,7 +463,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 
     /// Row `n` of the Newton matrix and its right-hand side for a real test function
     /// (folds, period doubling); the scaled Jacobian into the top-left block.
-    fn real_row(&mut self, omega: f64, p: f64) -> Result<(), String> {
+    fn real_row(&mut self, omega: f64, p: f64) -> Result<(), Stall> {
         let n = self.n;
         let g = self.test_function(omega, p)?;
         let (psi_o, psi_p) = self.psi_gradient(omega);
@@ -483,23 +481,21 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         Ok(())
     }
 
-    /// Rows `n`, `n + 1` (real and imaginary parts of the complex test function) of
-    /// a torus curve's Newton matrix, with the column of the torus frequency; the
-    /// scaled Jacobian into the top-left block.
-    fn torus_rows(&mut self, y: &[f64], omega: f64, p: f64) -> Result<(), String> {
+    /// The rows of the test function: [`FoldSystem::real_row`], or for a torus curve
+    /// rows `n`, `n + 1` (real and imaginary parts of the complex test function) of
+    /// its Newton matrix, with the column of the torus frequency; the scaled Jacobian
+    /// into the top-left block.
+    fn test_rows(&mut self, y: &[f64], omega: f64, p: f64) -> Result<(), Stall> {
         let n = self.n;
-        let torus = y[n + 2] * self.so;
+        let Some(torus) = self.torus_frequency(y) else { return self.real_row(omega, p) };
         if !(torus > 0.0 && torus < 0.5 * omega) {
-            return Err(format!(
-                "the torus frequency left (0, Ω/2) (ω = {torus:.6e} at Ω = {omega:.6})"
-            ));
+            return Err(Stall::LeftTorusRange { torus, omega });
         }
         let cs = self.sa / self.sr;
         let dpy = self.dp_dy(p);
         self.fill_jacobian(omega);
-        let TestMatrix::Torus { test, .. } = &mut self.test else {
-            return Err("not a torus curve".into());
-        };
+        // (a torus frequency is a torus curve's: the real row is the others')
+        let TestMatrix::Torus { test, .. } = &mut self.test else { return self.real_row(omega, p) };
         let g = test.evaluate(&mut self.bal, &self.a, omega, torus, cs)?;
         let grad = test.gradient(&mut self.bal, &self.a, omega, torus, self.param);
         let mut k = self.lu_k.matrix_mut();
@@ -528,7 +524,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         border: &[f64],
         target: f64,
         budget: usize,
-    ) -> Result<usize, String> {
+    ) -> Result<usize, Stall> {
         let tol = self.tol;
         iterate(budget, tol, |it, prev| {
             let dn = self.newton_step(y, border, target)?;
@@ -567,7 +563,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
     /// Borders for a start point `(a, Ω, P)` near a fold (or a period doubling): the
     /// right and left null vectors of the scaled test matrix by two steps of inverse
     /// iteration.
-    pub fn init_borders(&mut self, a: &[f64], omega: f64, p: f64) -> Result<(), String> {
+    pub fn init_borders(&mut self, a: &[f64], omega: f64, p: f64) -> Result<(), Stall> {
         let nt = self.nt;
         self.bal.set_param(self.param, p);
         self.a.copy_from_slice(a);
@@ -578,7 +574,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         let mut lu = DenseLu::new(nt);
         self.fill_test(omega, p, lu.matrix_mut());
         if lu.factor().is_nan() {
-            return Err(format!("non-finite Jacobian at the start at Ω = {omega:.6}"));
+            return Err(Stall::NonFinite { quantity: Quantity::StartJacobian, omega });
         }
         let mut v = vec![1.0; nt];
         let mut w = vec![1.0; nt];
@@ -588,7 +584,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
             for x in [&mut v, &mut w] {
                 let norm = dot(x, x).sqrt();
                 if !(norm.is_finite() && norm > 0.0) {
-                    return Err(format!("no null vector at the start at Ω = {omega:.6}"));
+                    return Err(Stall::NoNullVector { omega });
                 }
                 x.iter_mut().for_each(|e| *e /= norm);
             }

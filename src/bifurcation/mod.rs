@@ -39,7 +39,7 @@ use crate::balance::Balance;
 use crate::continuation::{sweep, Control, SweepOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::results::PointOutput;
+use crate::results::{PointOutput, Stall};
 use fold_curve::{FoldCurveTracer, Step};
 use fold_system::{FoldSystem, OddBlock, ParamScale};
 
@@ -125,7 +125,7 @@ pub enum CurveEnd {
     /// curve meets a fold or a period-doubling curve there).
     StrongResonance,
     /// The corrector failed at the smallest step, or another failure; the reason.
-    Stalled(String),
+    Stalled(Stall),
     /// An observer stopped the run.
     Stopped,
 }
@@ -440,7 +440,7 @@ pub fn fold_curves_with<M: Model + Clone>(
                 Ok(sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?))
             }
             Boundary::Torus => torus_frequency(&m, sweep_opts.harmonics, &fold)
-                .and_then(|w| sys.torus(w).map_err(|e| e.to_string())),
+                .and_then(|w| sys.torus(w).map_err(Stall::from)),
         };
         let up = (end == RangeEnd::From) == (to > from);
         let sr = reference_force(&m, sweep_opts.harmonics, fold.omega)?;
@@ -520,8 +520,8 @@ fn torus_frequency<M: Model>(
     model: &M,
     harmonics: usize,
     at: &crate::results::Fold,
-) -> std::result::Result<f64, String> {
-    let failed = |e: Error| format!("no Floquet exponents at the torus point: {e}");
+) -> std::result::Result<f64, Stall> {
+    let failed = |e: Error| Stall::TorusExponents { cause: Box::new(e.into()) };
     let mut bal = Balance::new(model, harmonics).map_err(failed)?;
     let mut hill = crate::stability::Hill::new(model, harmonics).map_err(failed)?;
     let omega = at.omega;
@@ -531,7 +531,7 @@ fn torus_frequency<M: Model>(
         .filter(|l| l.im.abs() > 1e-6 * omega && (l.im.abs() - 0.5 * omega).abs() > 1e-6 * omega)
         .min_by(|a, b| a.re.abs().total_cmp(&b.re.abs()))
         .map(|l| l.im.abs())
-        .ok_or_else(|| format!("no complex pair of exponents at the torus point Ω = {omega:.6}"))
+        .ok_or(Stall::NoComplexPair { omega })
 }
 
 /// The residual max-norm at zero response (the forcing) at Ω: the reference force.

@@ -18,8 +18,10 @@
 //! ([`Hill`]'s exact fractional factors).
 
 use crate::balance::{Balance, BilinearWork};
+use crate::error::{Matrix, Quantity};
 use crate::linalg::{complex_lu_factor, complex_lu_solve, complex_lu_solve_adjoint};
 use crate::model::Model;
+use crate::results::Stall;
 use crate::stability::Hill;
 use num_complex::Complex64;
 
@@ -81,11 +83,11 @@ impl TorusTest {
         omega: f64,
         torus: f64,
         cs: f64,
-    ) -> Result<(), String> {
+    ) -> Result<(), Stall> {
         let n = self.n;
         self.hill
             .prepare_operator(bal, a, omega)
-            .map_err(|e| format!("Hill's operator at Ω = {omega:.6}: {e}"))?;
+            .map_err(|e| Stall::HillOperator { omega, cause: Box::new(e.into()) })?;
         let t = self.hill.operator(bal.params(), omega, Complex64::new(0.0, torus));
         for i in 0..n {
             for j in 0..n {
@@ -104,7 +106,7 @@ impl TorusTest {
         omega: f64,
         torus: f64,
         cs: f64,
-    ) -> Result<Complex64, String> {
+    ) -> Result<Complex64, Stall> {
         let n = self.n;
         self.fill(bal, a, omega, torus, cs)?;
         for i in 0..n {
@@ -113,7 +115,7 @@ impl TorusTest {
         }
         self.k[n * (n + 1) + n] = Complex64::new(0.0, 0.0);
         if complex_lu_factor(&mut self.k, n + 1, &mut self.piv, 1e-14) > 0 {
-            return Err(format!("singular bordered torus test function at Ω = {omega:.6}"));
+            return Err(Stall::Singular { matrix: Matrix::TorusTestFunction, omega });
         }
         let one = |x: &mut Vec<Complex64>| {
             x.fill(Complex64::new(0.0, 0.0));
@@ -127,7 +129,7 @@ impl TorusTest {
         complex_lu_solve_adjoint(&self.k, n + 1, &self.piv, &mut self.x);
         self.w.copy_from_slice(&self.x[..n]);
         if !(g.re.is_finite() && g.im.is_finite()) {
-            return Err(format!("non-finite torus test function at Ω = {omega:.6}"));
+            return Err(Stall::NonFinite { quantity: Quantity::TorusTestFunction, omega });
         }
         Ok(g)
     }
@@ -168,7 +170,7 @@ impl TorusTest {
         omega: f64,
         torus: f64,
         cs: f64,
-    ) -> Result<(), String> {
+    ) -> Result<(), Stall> {
         let n = self.n;
         self.fill(bal, a, omega, torus, cs)?;
         let mut t: Vec<Complex64> = Vec::with_capacity(n * n);
@@ -178,7 +180,7 @@ impl TorusTest {
         let mut piv = vec![0; n];
         // a nearly singular T: tiny pivots are expected, only zero ones are refused
         if complex_lu_factor(&mut t, n, &mut piv, 0.0) > 0 {
-            return Err(format!("Hill's operator is exactly singular at Ω = {omega:.6}"));
+            return Err(Stall::Singular { matrix: Matrix::HillOperator, omega });
         }
         let mut v = vec![Complex64::new(1.0, 0.0); n];
         let mut w = v.clone();
@@ -188,7 +190,7 @@ impl TorusTest {
             for x in [&mut v, &mut w] {
                 let norm = x.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
                 if !(norm.is_finite() && norm > 0.0) {
-                    return Err(format!("no null vector of T(iω) at Ω = {omega:.6}"));
+                    return Err(Stall::NoHillNullVector { omega });
                 }
                 x.iter_mut().for_each(|z| *z /= norm);
             }

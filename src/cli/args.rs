@@ -1,6 +1,6 @@
 //! The command line, as clap derive types.
 
-use crate::continuation::{AmplitudeBound, Predictor};
+use crate::continuation::{AmplitudeBound, InvalidBound, Predictor};
 use crate::engine::settings::SweepSettings;
 use crate::engine::SimSettings;
 use crate::fourier::DEFAULT_HARMONICS;
@@ -315,7 +315,7 @@ impl ContinuationArgs {
     }
 }
 
-fn parse_bound(s: &str) -> Result<AmplitudeBound, String> {
+fn parse_bound(s: &str) -> Result<AmplitudeBound, InvalidBound> {
     s.parse()
 }
 

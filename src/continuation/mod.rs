@@ -94,9 +94,14 @@ pub enum AmplitudeBound {
 pub const BOUND_SYNTAX: &str =
     "rel:F, abs:A or none, with F and A finite numbers > 0 (e.g. rel:1e3, abs:0.5)";
 
+/// A text that is not an amplitude bound: what one looks like ([`BOUND_SYNTAX`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("expected {}", BOUND_SYNTAX)]
+pub struct InvalidBound;
+
 impl std::str::FromStr for AmplitudeBound {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
+    type Err = InvalidBound;
+    fn from_str(s: &str) -> std::result::Result<Self, InvalidBound> {
         let t = s.trim();
         if t.eq_ignore_ascii_case("none") {
             return Ok(AmplitudeBound::None);
@@ -107,12 +112,12 @@ impl std::str::FromStr for AmplitudeBound {
         };
         let x = match num.parse::<f64>() {
             Ok(x) if x.is_finite() && x > 0.0 => x,
-            _ => return Err(format!("expected {BOUND_SYNTAX}")),
+            _ => return Err(InvalidBound),
         };
         match kind.as_str() {
             "rel" => Ok(AmplitudeBound::Relative(x)),
             "abs" => Ok(AmplitudeBound::Absolute(x)),
-            _ => Err(format!("expected {BOUND_SYNTAX}")),
+            _ => Err(InvalidBound),
         }
     }
 }
@@ -145,7 +150,8 @@ impl<'de> serde::Deserialize<'de> for AmplitudeBound {
                 self,
                 v: &str,
             ) -> std::result::Result<Self::Value, E> {
-                v.parse().map_err(|m: String| E::custom(format!("amplitude_bound '{v}': {m}")))
+                v.parse()
+                    .map_err(|m: InvalidBound| E::custom(format!("amplitude_bound '{v}': {m}")))
             }
             fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<Self::Value, E> {
                 self.visit_str(&v.to_string())

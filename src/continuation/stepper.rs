@@ -17,7 +17,7 @@ use crate::model::Model;
 use crate::outputs::OutputEval;
 use crate::results::{
     Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, Parameter, PointOutput, Segment,
-    SegmentEnd, Stability, Unknown,
+    SegmentEnd, Stability, Stall, Unknown,
 };
 use crate::stability::{Crossing, Hill};
 use std::collections::VecDeque;
@@ -361,7 +361,7 @@ impl<'m, M: Model> Continuation<'m, M> {
     }
 
     /// Solve at `lam` from the linearised response (or the corrector for Ω).
-    fn start_point(&mut self, lam: f64) -> Result<Vec<f64>, String> {
+    fn start_point(&mut self, lam: f64) -> Result<Vec<f64>, Stall> {
         let n = self.tr.n;
         let mut y = vec![0.0; n + 1];
         let e_n = unit(n);
@@ -448,7 +448,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let target = dot(&border, &y0) + eps;
         let mut y: Vec<f64> = y0.iter().zip(&border).map(|(a, d)| a + eps * d).collect();
         if let Err(why) = self.tr.locate_exact(&mut y, &border, target) {
-            let why = format!("no branch found at Ω = {}: {why}", b.omega0);
+            let why = Stall::NoBranch { omega: b.omega0, cause: Box::new(why) };
             return self.end_segment(0, SegmentEnd::Stalled(why));
         }
         let mut t0 = vec![0.0; n + 1];
@@ -486,7 +486,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let y0 = match self.start_point(lam0) {
             Ok(y) => y,
             Err(why) => {
-                let why = format!("no solution at the start {}: {why}", crate::error::Num(lam0));
+                let why = Stall::NoStart { at: lam0, cause: Box::new(why) };
                 return self.end_segment(seg, SegmentEnd::Stalled(why));
             }
         };
@@ -519,10 +519,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let last = self.nodes.len() - 1;
         let ended = loop {
             if self.trace.stats.steps >= self.opts.max_steps {
-                break Some(SegmentEnd::Stalled(format!(
-                    "step limit {} reached",
-                    self.opts.max_steps
-                )));
+                break Some(SegmentEnd::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
             }
             self.predict(first, h, &mut y, &mut dirv);
             // A prediction beyond the range: land on its end from inside instead of
@@ -651,7 +648,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             }
             // The point outside the range is not kept: the curve ends at the last
             // node, inside.
-            Err(why) => SegmentEnd::Stalled(format!("could not land on the range end: {why}")),
+            Err(why) => SegmentEnd::Stalled(Stall::LandRangeEnd { cause: Box::new(why) }),
         }
     }
 

@@ -17,8 +17,10 @@
 //! reused across steps: the stepping loop does not allocate.
 
 use crate::balance::Balance;
+use crate::error::{Matrix, Quantity};
 use crate::linalg::{BorderedLu, DenseLu};
 use crate::model::Model;
+use crate::results::Stall;
 
 /// What is continued.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,7 +160,7 @@ impl<'m, M: Model> Tracer<'m, M> {
     /// parameter outside the range being traced (an iterate that overshoots, or Ω
     /// that would turn negative), or a point where a coefficient of the model is not
     /// finite, is an error: the model is never evaluated there.
-    fn unscale(&mut self, y: &[f64]) -> Result<f64, String> {
+    fn unscale(&mut self, y: &[f64]) -> Result<f64, Stall> {
         let n = self.n;
         for (a, &v) in self.a.iter_mut().zip(&y[..n]) {
             *a = v * self.sa;
@@ -168,7 +170,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         // The landing on the range end corrects onto it from inside; allow rounding.
         let slack = 1e-9 * (hi - lo);
         if !(lam >= lo - slack && lam <= hi + slack) {
-            return Err(format!("an iterate left the range [{lo}, {hi}] (at {lam:.6e})"));
+            return Err(Stall::LeftRange { lo, hi, at: lam });
         }
         let omega = match self.axis {
             Axis::Omega => lam,
@@ -178,14 +180,14 @@ impl<'m, M: Model> Tracer<'m, M> {
             }
         };
         // A coefficient that is not finite here ends the segment, naming it.
-        self.bal.check_coefficients(omega).map_err(|e| e.to_string())?;
+        self.bal.check_coefficients(omega)?;
         Ok(omega)
     }
 
     /// `y -= rhs` (the solved update); its max-norm, which must be finite. (`f64::max`
     /// ignores a NaN, so every component is checked: a NaN update once passed for a
     /// converged step and put NaN points on the curve.)
-    fn apply(&self, y: &mut [f64], what: &str) -> Result<f64, String> {
+    fn apply(&self, y: &mut [f64], what: Quantity) -> Result<f64, Stall> {
         let mut dn = 0.0f64;
         let mut finite = true;
         for (yi, &d) in y.iter_mut().zip(&self.rhs) {
@@ -194,13 +196,13 @@ impl<'m, M: Model> Tracer<'m, M> {
             dn = dn.max(d.abs());
         }
         if !(finite && dn.is_finite()) {
-            return Err(format!("non-finite {what} near Ω = {:.6}", self.omega(y)));
+            return Err(Stall::NonFinite { quantity: what, omega: self.omega(y) });
         }
         Ok(dn)
     }
 
     /// Fill the bordered matrix and the scaled residual at `y`.
-    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) -> Result<(), String> {
+    fn assemble(&mut self, y: &[f64], border: &[f64], target: f64) -> Result<(), Stall> {
         let n = self.n;
         let omega = self.unscale(y)?;
         let (cs, cl) = (self.sa / self.sr, self.d_lambda(y) / self.sr);
@@ -231,27 +233,24 @@ impl<'m, M: Model> Tracer<'m, M> {
         y: &mut [f64],
         border: &[f64],
         target: f64,
-    ) -> Result<f64, String> {
+    ) -> Result<f64, Stall> {
         let n = self.n;
         self.iterations += 1;
         self.assemble(y, border, target)?;
         let res = self.rhs[..n].iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !res.is_finite() {
-            return Err(format!("non-finite residual at Ω = {:.6}", self.omega(y)));
+            return Err(Stall::NonFinite { quantity: Quantity::Residual, omega: self.omega(y) });
         }
         let pivots = self.lu.factor();
         if pivots.is_nan() || pivots <= 1e-15 {
-            return Err(format!(
-                "singular bordered Jacobian at Ω = {}",
-                crate::error::Num(self.omega(y))
-            ));
+            return Err(Stall::Singular { matrix: Matrix::Bordered, omega: self.omega(y) });
         }
         self.lu.solve(&mut self.rhs);
-        self.apply(y, "Newton step")
+        self.apply(y, Quantity::NewtonStep)
     }
 
     /// One chord update at `y` with the LU of the last Newton step (residual only).
-    fn chord_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, String> {
+    fn chord_step(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<f64, Stall> {
         let n = self.n;
         self.chord_steps += 1;
         let omega = self.unscale(y)?;
@@ -261,7 +260,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         }
         self.rhs[n] = dot(border, y) - target;
         self.lu.solve(&mut self.rhs);
-        self.apply(y, "chord step")
+        self.apply(y, Quantity::ChordStep)
     }
 
     /// Bordered Newton from `y` (overwritten) on `R = 0`, `border · y = target`.
@@ -277,7 +276,7 @@ impl<'m, M: Model> Tracer<'m, M> {
     /// `dn`: harmless for prediction and step control ([`Tracer::locate_exact`] is
     /// for where it is not). At most `max_iter` Newton iterations: the step
     /// controller's budget (a failure halves the step).
-    pub fn correct(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, String> {
+    pub fn correct(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, Stall> {
         self.correct_to(y, border, target, true, self.max_iter)
     }
 
@@ -285,7 +284,7 @@ impl<'m, M: Model> Tracer<'m, M> {
     /// first point, a stability change, a jump's landing): from an interpolated guess,
     /// with at least [`LOCATE_ITER`] iterations whatever `max_iter` is (a user may set
     /// that low to force small steps; a location has no smaller step to fall back on).
-    pub fn locate(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, String> {
+    pub fn locate(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, Stall> {
         self.correct_to(y, border, target, true, self.max_iter.max(LOCATE_ITER))
     }
 
@@ -297,7 +296,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         y: &mut [f64],
         border: &[f64],
         target: f64,
-    ) -> Result<usize, String> {
+    ) -> Result<usize, Stall> {
         self.correct_to(y, border, target, false, self.max_iter.max(LOCATE_ITER))
     }
 
@@ -308,7 +307,7 @@ impl<'m, M: Model> Tracer<'m, M> {
         target: f64,
         chord: bool,
         budget: usize,
-    ) -> Result<usize, String> {
+    ) -> Result<usize, Stall> {
         let mut prev = f64::INFINITY;
         for it in 1..=budget {
             let dn = self.newton_step(y, border, target)?;
@@ -333,7 +332,7 @@ impl<'m, M: Model> Tracer<'m, M> {
             }
             prev = dn;
         }
-        Err(no_convergence(budget, self.omega(y)))
+        Err(Stall::NoConvergence { iterations: budget, omega: self.omega(y) })
     }
 
     /// The unit tangent from the LU of the last `correct` (oriented along its border).
@@ -352,15 +351,12 @@ impl<'m, M: Model> Tracer<'m, M> {
 /// Why a Newton run at Ω stops early: from its third step on, an update `dn` more
 /// than half the one before (`prev`) is not the quadratic convergence a correct
 /// Jacobian gives near a solution, and more iterations will not help.
-pub(crate) fn stalling(it: usize, dn: f64, prev: f64, omega: f64) -> Option<String> {
-    (it >= 3 && dn > 0.5 * prev).then(|| {
-        format!("Newton not contracting at Ω = {omega:.6} (step {dn:.2e} after {prev:.2e})")
+pub(crate) fn stalling(it: usize, dn: f64, prev: f64, omega: f64) -> Option<Stall> {
+    (it >= 3 && dn > 0.5 * prev).then_some(Stall::NotContracting {
+        omega,
+        step: dn,
+        previous: prev,
     })
-}
-
-/// Why a Newton run at Ω ended after its whole budget.
-pub(crate) fn no_convergence(budget: usize, omega: f64) -> String {
-    format!("no convergence in {budget} iterations at Ω = {omega:.6}")
 }
 
 /// Newton iterations allowed to the solves that locate a point (see
@@ -379,13 +375,13 @@ pub(crate) fn newton_update(
     rhs: &mut [f64],
     y: &mut [f64],
     omega: f64,
-) -> Result<f64, String> {
+) -> Result<f64, Stall> {
     if !rhs.iter().all(|v| v.is_finite()) {
-        return Err(format!("non-finite residual at Ω = {omega:.6}"));
+        return Err(Stall::NonFinite { quantity: Quantity::Residual, omega });
     }
     let pivots = lu.factor();
     if pivots.is_nan() || pivots <= 1e-15 {
-        return Err(format!("singular extended Jacobian at Ω = {omega:.6}"));
+        return Err(Stall::Singular { matrix: Matrix::Extended, omega });
     }
     lu.solve(rhs);
     let mut dn = 0.0f64;
@@ -394,7 +390,7 @@ pub(crate) fn newton_update(
         dn = dn.max(d.abs());
     }
     if !(dn.is_finite() && y.iter().all(|v| v.is_finite())) {
-        return Err(format!("non-finite Newton step near Ω = {omega:.6}"));
+        return Err(Stall::NonFinite { quantity: Quantity::NewtonStep, omega });
     }
     Ok(dn)
 }
@@ -406,8 +402,8 @@ pub(crate) fn newton_update(
 pub(crate) fn iterate(
     budget: usize,
     tol: f64,
-    mut step: impl FnMut(usize, f64) -> Result<(f64, f64, bool), String>,
-) -> Result<usize, String> {
+    mut step: impl FnMut(usize, f64) -> Result<(f64, f64, bool), Stall>,
+) -> Result<usize, Stall> {
     let (mut prev, mut omega) = (f64::INFINITY, f64::NAN);
     for it in 1..=budget {
         let (dn, w, settled) = step(it, prev)?;
@@ -420,7 +416,7 @@ pub(crate) fn iterate(
         }
         prev = dn;
     }
-    Err(no_convergence(budget, omega))
+    Err(Stall::NoConvergence { iterations: budget, omega })
 }
 
 /// The unit tangent of a curve from the LU (in `lu`) of its last Newton matrix,

@@ -355,7 +355,7 @@ pub fn backbone<M: Model>(name: &str, model: &M, s: &BackboneSettings) -> Result
 }
 
 /// A backbone drawn over a sweep: of which mode, continued in which output.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub struct SweepBackbone {
     /// The mode (1-based).
     pub mode: usize,
@@ -363,7 +363,7 @@ pub struct SweepBackbone {
     pub output: usize,
     /// The backbone (which may have ended before that amplitude: it says why), or why
     /// it could not start.
-    pub backbone: std::result::Result<Backbone, String>,
+    pub backbone: Result<Backbone>,
 }
 
 /// The backbones that belong on a sweep's figure: for every mode whose linear
@@ -387,12 +387,10 @@ pub fn sweep_backbones<M: Model>(
                 continue;
             }
             let opts = BackboneOptions { mode, output, to: top, harmonics, ..Default::default() };
-            let backbone = crate::backbone::backbone(model, &opts)
-                .map(|mut b| {
-                    b.model = name.to_string();
-                    b
-                })
-                .map_err(|e| e.to_string());
+            let backbone = crate::backbone::backbone(model, &opts).map(|mut b| {
+                b.model = name.to_string();
+                b
+            });
             out.push(SweepBackbone { mode, output, backbone });
         }
     }
