@@ -98,7 +98,6 @@ enum Done {
 }
 
 /// What the jobs of one figure produced.
-#[derive(Clone)]
 struct Finished {
     curves: Vec<Option<Curve>>,
     folds: Vec<Option<FoldCurves>>,
@@ -264,13 +263,8 @@ pub fn run_until(
     }
     let mut finished = jobs.collect(&plans, &mut out);
     if !stop.load(Ordering::Relaxed) && !matches!(running, Detached::Panicked(_)) {
-        let (plans, done) = (Arc::clone(&plans), Arc::new(finished));
-        let found = {
-            let done = Arc::clone(&done);
-            detach::run(stop.as_ref(), move || backbones(&plans, &done))
-        };
-        finished = Arc::try_unwrap(done).unwrap_or_else(|shared| (*shared).clone());
-        match found {
+        let (plans, tops) = (Arc::clone(&plans), backbone_tops(&plans, &finished));
+        match detach::run(stop.as_ref(), move || backbones(&plans, &tops)) {
             Detached::Returned(found) => {
                 for (done, (b, t)) in finished.iter_mut().zip(found) {
                     done.backbones = b;
@@ -579,15 +573,38 @@ fn write_folds(dir: &Path, stem: &str, folds: &FoldCurves, out: &mut StudyOutcom
 /// The backbones of every figure that asks for them, in parallel over figures: of
 /// the figure's model, each mode continued in each panel's output to the largest
 /// amplitude of it on the finished curves ([`crate::engine::sweep_backbones`]).
-fn backbones(plans: &[FigurePlan], finished: &[Finished]) -> Vec<(Vec<SweepBackbone>, f64)> {
+fn backbones(plans: &[FigurePlan], tops: &[Vec<f64>]) -> Vec<(Vec<SweepBackbone>, f64)> {
     plans
         .par_iter()
-        .zip(finished.par_iter())
-        .map(|(p, done)| {
+        .zip(tops.par_iter())
+        .map(|(p, tops)| {
             let Some(spec) = &p.backbone else { return (Vec::new(), 0.0) };
             let t = Instant::now();
-            let m = p.td_model.as_ref();
-            let names: Vec<&str> = m.outputs().iter().map(|o| &*o.name).collect();
+            let (range, keep) = match spec.modes() {
+                None => (p.range, None),
+                Some(modes) => ((0.0, f64::INFINITY), Some(modes)),
+            };
+            let mut found = match keep {
+                Some([]) => Vec::new(),
+                _ => p.td_model.sweep_backbones(range, tops, p.harmonics),
+            };
+            if let Some(keep) = keep {
+                found.retain(|b| keep.contains(&b.mode));
+                found.sort_by_key(|b| keep.iter().position(|&k| k == b.mode));
+            }
+            (found, t.elapsed().as_secs_f64())
+        })
+        .collect()
+}
+
+/// For each figure, the amplitude each output's backbone is continued to: the
+/// largest on its finished curves, 0 (not continued) for an output on no panel.
+fn backbone_tops(plans: &[FigurePlan], finished: &[Finished]) -> Vec<Vec<f64>> {
+    plans
+        .iter()
+        .zip(finished)
+        .map(|(p, done)| {
+            let names: Vec<&str> = p.td_model.outputs().iter().map(|o| &*o.name).collect();
             let mut tops =
                 crate::engine::largest_amplitudes(done.curves.iter().flatten(), names.len());
             for (t, n) in tops.iter_mut().zip(&names) {
@@ -595,19 +612,7 @@ fn backbones(plans: &[FigurePlan], finished: &[Finished]) -> Vec<(Vec<SweepBackb
                     *t = 0.0; // not on a panel: not continued
                 }
             }
-            let (range, keep) = match spec.modes() {
-                None => (p.range, None),
-                Some(modes) => ((0.0, f64::INFINITY), Some(modes)),
-            };
-            let mut found = match keep {
-                Some([]) => Vec::new(),
-                _ => m.sweep_backbones(range, &tops, p.harmonics),
-            };
-            if let Some(keep) = keep {
-                found.retain(|b| keep.contains(&b.mode));
-                found.sort_by_key(|b| keep.iter().position(|&k| k == b.mode));
-            }
-            (found, t.elapsed().as_secs_f64())
+            tops
         })
         .collect()
 }
