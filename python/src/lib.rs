@@ -16,7 +16,7 @@ use ihbm::bifurcation::{FoldCurves, FoldEvent};
 use ihbm::continuation::{Control, Event, Observer, Trace};
 use ihbm::engine::detach::{self, Detached, TraceCopy};
 use ihbm::engine::progress;
-use ihbm::engine::registry::{AnyModel, Registered, Registry};
+use ihbm::engine::registry::{NamedModel, Registry};
 use ihbm::engine::{
     self, ArgNames, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
     SweepSettings,
@@ -191,13 +191,13 @@ fn sweep_out<'py>(
 /// keeps it as far as its last point. The curve, and the exception that stopped it.
 fn traced<F>(
     py: Python<'_>,
-    model: Box<dyn AnyModel>,
+    model: NamedModel,
     stability_checked: bool,
     progress: Option<Py<PyAny>>,
     trace: F,
 ) -> PyResult<(Curve, Option<Py<PyAny>>)>
 where
-    F: FnOnce(&dyn AnyModel, &mut dyn Observer) -> ihbm::Result<Curve> + Send + 'static,
+    F: FnOnce(&NamedModel, &mut dyn Observer) -> ihbm::Result<Curve> + Send + 'static,
 {
     let name = model.name().to_string();
     let copy = TraceCopy::default();
@@ -209,7 +209,7 @@ where
             let curve = {
                 let mut observer =
                     copy.watching(progress::Stoppable { inner: &mut watch, stop: &stop });
-                trace(model.as_ref(), &mut observer)
+                trace(&model, &mut observer)
             };
             (curve, watch.stopped_by)
         }
@@ -248,13 +248,13 @@ where
 /// A model: built in, read from a model file, or from text.
 #[pyclass(frozen, module = "ihbm._native")]
 struct NativeModel {
-    model: Box<dyn AnyModel>,
+    model: NamedModel,
 }
 
 impl NativeModel {
     /// A copy of the model with the parameter values `set` applied.
-    fn configured(&self, set: &[(String, f64)]) -> PyResult<Box<dyn AnyModel>> {
-        let mut m = self.model.clone_box();
+    fn configured(&self, set: &[(String, f64)]) -> PyResult<NamedModel> {
+        let mut m = self.model.clone();
         for (name, value) in set {
             m.set_param(name, *value).map_err(py_err)?;
         }
@@ -288,7 +288,7 @@ impl NativeModel {
     fn new(text: &str, origin: &str) -> PyResult<Self> {
         let m = RuntimeModel::from_text(text, origin).map_err(py_err)?;
         let name = ihbm::Model::name(&m).to_string();
-        Ok(NativeModel { model: Box::new(Registered::new(&name, BoxedModel::new(m))) })
+        Ok(NativeModel { model: NamedModel::new(&name, BoxedModel::new(m)) })
     }
 
     /// A built-in model by name.
@@ -302,7 +302,7 @@ impl NativeModel {
     fn file(path: &str) -> PyResult<Self> {
         let m = RuntimeModel::from_file(std::path::Path::new(path)).map_err(py_err)?;
         let name = ihbm::Model::name(&m).to_string();
-        Ok(NativeModel { model: Box::new(Registered::new(&name, BoxedModel::new(m))) })
+        Ok(NativeModel { model: NamedModel::new(&name, BoxedModel::new(m)) })
     }
 
     #[getter]

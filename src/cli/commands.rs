@@ -7,7 +7,7 @@ use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::{Control, Observer};
 use crate::engine::detach::{self, Detached, TraceCopy};
 use crate::engine::progress;
-use crate::engine::registry::{AnyModel, Registry};
+use crate::engine::registry::{NamedModel, Registry};
 use crate::engine::{BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings};
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
@@ -104,7 +104,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
             }
             let stop = interrupt_flag();
-            let (m, s) = (model.clone_box(), settings.clone());
+            let (m, s) = (model.clone(), settings.clone());
             let curve = traced(&stop, &pb, &name, settings.checks_stability(), move |obs| {
                 m.sweep(from, to, &s, obs)
             });
@@ -112,7 +112,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             let curve = curve?;
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
             let (overlays, warnings) = if backbone {
-                backbone_overlays(model.as_ref(), &curve, (from, to))
+                backbone_overlays(&model, &curve, (from, to))
             } else {
                 (Vec::new(), Vec::new())
             };
@@ -132,7 +132,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             ));
             let settings = args.cont.settings(args.harmonics);
             let stop = interrupt_flag();
-            let (m, s, p) = (model.clone_box(), settings.clone(), param.clone());
+            let (m, s, p) = (model.clone(), settings.clone(), param.clone());
             let curve = traced(&stop, &pb, &name, settings.checks_stability(), move |obs| {
                 m.sweep_param(&ParamRange { param: &p, from, to, omega }, &s, obs)
             });
@@ -452,7 +452,7 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
 /// amplitude of it. A backbone that could not start, or stopped short, is drawn as
 /// far as it went (if at all), and said so in the warnings returned.
 fn backbone_overlays(
-    model: &dyn AnyModel,
+    model: &NamedModel,
     curve: &Curve,
     range: (f64, f64),
 ) -> (Vec<report::Overlay>, Vec<String>) {
@@ -576,7 +576,7 @@ fn w(out: &mut dyn Write, args: std::fmt::Arguments) -> Result<(), Failure> {
 }
 
 /// A fresh model with `--set P=V` overrides applied.
-fn configured(reg: &Registry, name: &str, sets: &[String]) -> Result<Box<dyn AnyModel>, Failure> {
+fn configured(reg: &Registry, name: &str, sets: &[String]) -> Result<NamedModel, Failure> {
     let mut model = reg.get(name).map_err(Failure::from_error)?;
     for s in sets {
         let (p, v) = parse_set(s)?;

@@ -1,7 +1,9 @@
-//! Models registered by name, behind an object-safe trait.
+//! Models registered by name: [`NamedModel`], a model and the name it answers to,
+//! and [`Registry`], the models a CLI knows.
 //!
-//! Every registered model is held as a [`BoxedModel`], so the solvers behind
-//! [`AnyModel`] are compiled once for all of them (not once per model type).
+//! Every named model holds a [`BoxedModel`] (the model type erased behind the
+//! object-safe [`DynModel`](crate::model::DynModel)), so the solvers its methods call
+//! are compiled once for all of them (not once per model type).
 //!
 use super::{
     self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
@@ -17,86 +19,18 @@ use crate::runtime::RuntimeModel;
 use crate::timedomain::CompareRow;
 use std::path::{Path, PathBuf};
 
-/// A registered model with its current parameter values, usable without its type.
-pub trait AnyModel: Send + Sync {
-    /// The registered name (the CLI's `NAME`).
-    fn name(&self) -> &str;
-    /// The model's description.
-    fn description(&self) -> &str;
-    /// Degrees of freedom.
-    fn dofs(&self) -> &[Text];
-    /// Declared parameters.
-    fn params_info(&self) -> &[ParamInfo];
-    /// Current value of parameter `i`.
-    fn param_value(&self, i: usize) -> f64;
-    /// Set a parameter by name (unknown names and non-finite values are errors).
-    fn set_param(&mut self, name: &str, value: f64) -> Result<()>;
-    /// Whether the current values are in the model's domain ([`Model::validate`]).
-    fn validate(&self) -> Result<()>;
-    /// Whether `harmonics` fits in memory: the harmonic balance's Jacobians and, with
-    /// `stability`, Hill's matrices (errors name the largest N that fits).
-    fn check_size(&self, harmonics: usize, stability: bool) -> Result<()>;
-    /// Named outputs.
-    fn outputs(&self) -> &[Output];
-    /// Equations as text.
-    fn equations(&self) -> &[Text];
-    /// Solve at one frequency.
-    fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord>;
-    /// Trace a frequency sweep.
-    fn sweep(&self, from: f64, to: f64, s: &SweepSettings, obs: &mut dyn Observer)
-        -> Result<Curve>;
-    /// The period-2 branch, switched onto at a period doubling of the period-1 curve.
-    fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled>;
-    /// The branch that breaks the curve's symmetry, switched onto at a branch point.
-    fn sweep_break_symmetry(&self, from: f64, to: f64, s: &SweepSettings)
-        -> Result<SymmetryBroken>;
-    /// Trace the response at a fixed frequency as one parameter moves.
-    fn sweep_param(
-        &self,
-        r: &ParamRange,
-        s: &SweepSettings,
-        obs: &mut dyn Observer,
-    ) -> Result<Curve>;
-    /// The fold curves in the plane of Ω and one parameter, and their cusps.
-    fn fold_curves(
-        &self,
-        r: &FoldRange,
-        s: &SweepSettings,
-        obs: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
-    ) -> Result<FoldCurves>;
-    /// The backbone (nonlinear mode) of one mode.
-    fn backbone(&self, s: &BackboneSettings) -> Result<Backbone>;
-    /// The backbones of the modes in `[range.0, range.1]`, each output's continued to
-    /// `tops[output]` ([`engine::sweep_backbones`]).
-    fn sweep_backbones(
-        &self,
-        range: (f64, f64),
-        tops: &[f64],
-        harmonics: usize,
-    ) -> Vec<SweepBackbone>;
-    /// The limit cycle near a frequency guess.
-    fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle>;
-    /// The limit cycle continued in a parameter, with its Hopf point.
-    fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily>;
-    /// Integrate in time.
-    fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord>;
-    /// Harmonic balance against time integration at one frequency.
-    fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow;
-    /// A copy with the same parameter values.
-    fn clone_box(&self) -> Box<dyn AnyModel>;
-}
-
-/// A model registered under a name.
+/// A model under the name it was registered (or read) under, with its current
+/// parameter values, usable without its type. Cloning it copies the parameter values.
 #[derive(Debug, Clone)]
-pub struct Registered {
+pub struct NamedModel {
     name: String,
     model: BoxedModel,
 }
 
-impl Registered {
+impl NamedModel {
     /// Register `model` under `name`.
     pub fn new(name: &str, model: BoxedModel) -> Self {
-        Registered { name: name.to_string(), model }
+        NamedModel { name: name.to_string(), model }
     }
 
     /// Errors name the registered model, not the type's own name.
@@ -108,47 +42,69 @@ impl Registered {
             e => e,
         }
     }
-}
 
-impl AnyModel for Registered {
-    fn name(&self) -> &str {
+    /// The registered name (the CLI's `NAME`).
+    pub fn name(&self) -> &str {
         &self.name
     }
-    fn description(&self) -> &str {
+
+    /// The model's description.
+    pub fn description(&self) -> &str {
         self.model.description()
     }
-    fn dofs(&self) -> &[Text] {
+
+    /// Degrees of freedom.
+    pub fn dofs(&self) -> &[Text] {
         self.model.dofs()
     }
-    fn params_info(&self) -> &[ParamInfo] {
+
+    /// Declared parameters.
+    pub fn params_info(&self) -> &[ParamInfo] {
         self.model.params_info()
     }
-    fn param_value(&self, i: usize) -> f64 {
+
+    /// Current value of parameter `i`.
+    pub fn param_value(&self, i: usize) -> f64 {
         self.model.param_value(i)
     }
-    fn set_param(&mut self, name: &str, value: f64) -> Result<()> {
+
+    /// Set a parameter by name (unknown names and non-finite values are errors).
+    pub fn set_param(&mut self, name: &str, value: f64) -> Result<()> {
         self.model.set_param(name, value).map_err(|e| self.named(e))
     }
-    fn validate(&self) -> Result<()> {
+
+    /// Whether the current values are in the model's domain ([`Model::validate`]).
+    pub fn validate(&self) -> Result<()> {
         self.model.validate()
     }
-    fn check_size(&self, harmonics: usize, stability: bool) -> Result<()> {
+
+    /// Whether `harmonics` fits in memory: the harmonic balance's Jacobians and, with
+    /// `stability`, Hill's matrices (errors name the largest N that fits).
+    pub fn check_size(&self, harmonics: usize, stability: bool) -> Result<()> {
         crate::balance::check_size(self.model.dofs().len(), harmonics)?;
         if stability {
             crate::stability::check_size(&self.model, harmonics)?;
         }
         Ok(())
     }
-    fn outputs(&self) -> &[Output] {
+
+    /// Named outputs.
+    pub fn outputs(&self) -> &[Output] {
         self.model.outputs()
     }
-    fn equations(&self) -> &[Text] {
+
+    /// Equations as text.
+    pub fn equations(&self) -> &[Text] {
         self.model.equations()
     }
-    fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
+
+    /// Solve at one frequency.
+    pub fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
         engine::solve(&self.name, &self.model, omega, s)
     }
-    fn sweep(
+
+    /// Trace a frequency sweep.
+    pub fn sweep(
         &self,
         from: f64,
         to: f64,
@@ -159,10 +115,14 @@ impl AnyModel for Registered {
         c.model = self.name.clone();
         Ok(c)
     }
-    fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled> {
+
+    /// The period-2 branch, switched onto at a period doubling of the period-1 curve.
+    pub fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled> {
         engine::sweep_period_two(&self.name, &self.model, from, to, s)
     }
-    fn sweep_break_symmetry(
+
+    /// The branch that breaks the curve's symmetry, switched onto at a branch point.
+    pub fn sweep_break_symmetry(
         &self,
         from: f64,
         to: f64,
@@ -170,7 +130,9 @@ impl AnyModel for Registered {
     ) -> Result<SymmetryBroken> {
         engine::sweep_break_symmetry(&self.name, &self.model, from, to, s)
     }
-    fn sweep_param(
+
+    /// Trace the response at a fixed frequency as one parameter moves.
+    pub fn sweep_param(
         &self,
         r: &ParamRange,
         s: &SweepSettings,
@@ -178,7 +140,9 @@ impl AnyModel for Registered {
     ) -> Result<Curve> {
         engine::sweep_param(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
     }
-    fn fold_curves(
+
+    /// The fold curves in the plane of Ω and one parameter, and their cusps.
+    pub fn fold_curves(
         &self,
         r: &FoldRange,
         s: &SweepSettings,
@@ -186,16 +150,15 @@ impl AnyModel for Registered {
     ) -> Result<FoldCurves> {
         engine::fold_curves(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
     }
-    fn backbone(&self, s: &BackboneSettings) -> Result<Backbone> {
+
+    /// The backbone (nonlinear mode) of one mode.
+    pub fn backbone(&self, s: &BackboneSettings) -> Result<Backbone> {
         engine::backbone(&self.name, &self.model, s).map_err(|e| self.named(e))
     }
-    fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle> {
-        let opts = crate::backbone::CycleOptions { omega, harmonics, ..Default::default() };
-        let mut c = crate::backbone::cycle(&self.model, &opts).map_err(|e| self.named(e))?;
-        c.model = self.name.clone();
-        Ok(c)
-    }
-    fn sweep_backbones(
+
+    /// The backbones of the modes in `[range.0, range.1]`, each output's continued to
+    /// `tops[output]` ([`engine::sweep_backbones`]).
+    pub fn sweep_backbones(
         &self,
         range: (f64, f64),
         tops: &[f64],
@@ -203,26 +166,37 @@ impl AnyModel for Registered {
     ) -> Vec<SweepBackbone> {
         engine::sweep_backbones(&self.name, &self.model, range, tops, harmonics)
     }
-    fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily> {
+
+    /// The limit cycle near a frequency guess.
+    pub fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle> {
+        let opts = crate::backbone::CycleOptions { omega, harmonics, ..Default::default() };
+        let mut c = crate::backbone::cycle(&self.model, &opts).map_err(|e| self.named(e))?;
+        c.model = self.name.clone();
+        Ok(c)
+    }
+
+    /// The limit cycle continued in a parameter, with its Hopf point.
+    pub fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily> {
         let mut f = crate::backbone::cycles(&self.model, opts).map_err(|e| self.named(e))?;
         f.model = self.name.clone();
         Ok(f)
     }
-    fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
+
+    /// Integrate in time.
+    pub fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
         engine::simulate(&self.name, &self.model, omega, s)
     }
-    fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
+
+    /// Harmonic balance against time integration at one frequency.
+    pub fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
         engine::compare(&self.model, omega, s, harmonics)
-    }
-    fn clone_box(&self) -> Box<dyn AnyModel> {
-        Box::new(self.clone())
     }
 }
 
 /// The models a CLI knows, in registration order.
 #[derive(Default)]
 pub struct Registry {
-    entries: Vec<Box<dyn AnyModel>>,
+    entries: Vec<NamedModel>,
 }
 
 impl Registry {
@@ -246,7 +220,7 @@ impl Registry {
     /// an earlier registration of the name.
     pub fn add_boxed(&mut self, name: &str, model: BoxedModel) {
         self.entries.retain(|e| e.name() != name);
-        self.entries.push(Box::new(Registered::new(name, model)));
+        self.entries.push(NamedModel::new(name, model));
     }
 
     /// Registered names, in order.
@@ -255,19 +229,19 @@ impl Registry {
     }
 
     /// All entries.
-    pub fn entries(&self) -> &[Box<dyn AnyModel>] {
+    pub fn entries(&self) -> &[NamedModel] {
         &self.entries
     }
 
     /// A fresh copy (default parameters) of the model called `name`, or the model
     /// read from `name` when it is the path of a model file (see [`is_model_file`]).
-    pub fn get(&self, name: &str) -> Result<Box<dyn AnyModel>> {
+    pub fn get(&self, name: &str) -> Result<NamedModel> {
         self.get_in(name, None)
     }
 
     /// [`Registry::get`], a relative model-file path taken from `dir` (a study file's
     /// directory) when given.
-    pub fn get_in(&self, name: &str, dir: Option<&Path>) -> Result<Box<dyn AnyModel>> {
+    pub fn get_in(&self, name: &str, dir: Option<&Path>) -> Result<NamedModel> {
         if is_model_file(name) {
             let path = match dir {
                 Some(d) if Path::new(name).is_relative() => d.join(name),
@@ -275,10 +249,11 @@ impl Registry {
             };
             let model = RuntimeModel::from_file(&path)?;
             let own = model.name().to_string();
-            return Ok(Box::new(Registered::new(&own, BoxedModel::new(model))));
+            return Ok(NamedModel::new(&own, BoxedModel::new(model)));
         }
-        self.entries.iter().find(|e| e.name() == name).map(|e| e.clone_box()).ok_or_else(|| {
-            Error::UnknownModel { name: name.to_string(), known: self.names().join(", ") }
+        self.entries.iter().find(|e| e.name() == name).cloned().ok_or_else(|| Error::UnknownModel {
+            name: name.to_string(),
+            known: self.names().join(", "),
         })
     }
 }

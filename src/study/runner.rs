@@ -9,7 +9,7 @@ use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
 use crate::engine::detach::{self, Detached, TraceCopy};
 use crate::engine::progress;
-use crate::engine::registry::{AnyModel, Registry};
+use crate::engine::registry::{NamedModel, Registry};
 use crate::engine::{FoldRange, SimSettings, SweepBackbone, SweepSettings};
 use crate::error::{Error, Result};
 use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
@@ -24,7 +24,7 @@ use std::time::Instant;
 struct CurvePlan {
     label: String,
     value: f64,
-    model: Box<dyn AnyModel>,
+    model: NamedModel,
     sweep: SweepSettings,
     stem: String,
 }
@@ -44,7 +44,7 @@ struct FigurePlan {
     range: (f64, f64),
     harmonics: usize,
     curves: Vec<CurvePlan>,
-    td_model: Box<dyn AnyModel>,
+    td_model: NamedModel,
     td: Vec<TdPlan>,
     /// The backbones drawn over the curves (of `td_model`: the figure's model).
     backbone: Option<BackboneSpec>,
@@ -120,13 +120,13 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
             None => curves.push(CurvePlan {
                 label: model.name().to_string(),
                 value: f64::NAN,
-                model: model.clone_box(),
+                model: model.clone(),
                 sweep: SweepSettings { harmonics, ..sweep.clone() },
                 stem: id.clone(),
             }),
             Some(v) => {
                 for &x in &fig.values {
-                    let mut m = model.clone_box();
+                    let mut m = model.clone();
                     let mut n = harmonics;
                     let name = v.get_ref().as_str();
                     if name == "harmonics" {
@@ -167,7 +167,7 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
                 .map(|f| (f.param.get_ref().clone(), f.from, f.to, f.boundary)),
             id,
             unit: fig.unit.unwrap_or(study.unit),
-            outputs: study.figure_outputs(fig, model.as_ref()),
+            outputs: study.figure_outputs(fig, &model),
             range: (range.from, range.to),
             harmonics,
             curves,

@@ -46,7 +46,7 @@
 //! Unknown keys and wrong types are errors naming the file, line and column.
 //! Time-domain points use the figure's parameters without the varied one.
 
-use crate::engine::registry::{AnyModel, Registry};
+use crate::engine::registry::{NamedModel, Registry};
 use crate::engine::SweepSettings;
 use crate::error::{Error, Result};
 use crate::model::check_domain;
@@ -111,20 +111,20 @@ pub struct Study {
 
 /// Models read from files, by the name the study gives them.
 #[derive(Default)]
-struct ModelCache(std::sync::Mutex<BTreeMap<String, Box<dyn AnyModel>>>);
+struct ModelCache(std::sync::Mutex<BTreeMap<String, NamedModel>>);
 
 impl ModelCache {
     fn get_or_read(
         &self,
         name: &str,
-        read: impl FnOnce() -> Result<Box<dyn AnyModel>>,
-    ) -> Result<Box<dyn AnyModel>> {
+        read: impl FnOnce() -> Result<NamedModel>,
+    ) -> Result<NamedModel> {
         let mut map = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         if let Some(m) = map.get(name) {
-            return Ok(m.clone_box());
+            return Ok(m.clone());
         }
         let m = read()?;
-        map.insert(name.to_string(), m.clone_box());
+        map.insert(name.to_string(), m.clone());
         Ok(m)
     }
 }
@@ -132,9 +132,7 @@ impl ModelCache {
 impl Clone for ModelCache {
     fn clone(&self) -> Self {
         let map = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        ModelCache(std::sync::Mutex::new(
-            map.iter().map(|(k, v)| (k.clone(), v.clone_box())).collect(),
-        ))
+        ModelCache(std::sync::Mutex::new(map.iter().map(|(k, v)| (k.clone(), v.clone())).collect()))
     }
 }
 
@@ -501,15 +499,15 @@ impl Study {
     }
 
     /// The study's model with the study-level overrides applied.
-    pub fn base_model(&self, reg: &Registry) -> Result<Box<dyn AnyModel>> {
+    pub fn base_model(&self, reg: &Registry) -> Result<NamedModel> {
         let mut m = self.model_named(&self.model, reg)?;
-        apply(self, m.as_mut(), &self.params)?;
+        apply(self, &mut m, &self.params)?;
         Ok(m)
     }
 
     /// The registered model `name`, or the model file it names (relative to the study
     /// file's directory), errors pointing at the name.
-    fn model_named(&self, name: &Spanned<String>, reg: &Registry) -> Result<Box<dyn AnyModel>> {
+    fn model_named(&self, name: &Spanned<String>, reg: &Registry) -> Result<NamedModel> {
         let dir = self.source.as_ref().and_then(|(f, _)| std::path::Path::new(f).parent());
         let read = || reg.get_in(name.get_ref(), dir).map_err(|e| self.at(name.span(), e));
         if crate::engine::registry::is_model_file(name.get_ref()) {
@@ -521,18 +519,18 @@ impl Study {
 
     /// The model of figure `fig` with its overrides applied: the study's model (with
     /// the study's overrides) or the figure's own `model` (from its defaults).
-    pub fn figure_model(&self, fig: &FigureSpec, reg: &Registry) -> Result<Box<dyn AnyModel>> {
+    pub fn figure_model(&self, fig: &FigureSpec, reg: &Registry) -> Result<NamedModel> {
         let mut m = match &fig.model {
             None => self.base_model(reg)?,
             Some(name) => self.model_named(name, reg)?,
         };
-        apply(self, m.as_mut(), &fig.params)?;
+        apply(self, &mut m, &fig.params)?;
         Ok(m)
     }
 
     /// The panels of figure `fig` whose model is `m`: the figure's `outputs`, else the
     /// study's (for the study's model), else every output of `m`.
-    pub fn figure_outputs(&self, fig: &FigureSpec, m: &dyn AnyModel) -> Vec<String> {
+    pub fn figure_outputs(&self, fig: &FigureSpec, m: &NamedModel) -> Vec<String> {
         match (&fig.outputs, &fig.model) {
             (Some(o), _) => o.iter().map(|s| s.get_ref().clone()).collect(),
             (None, None) if !self.outputs.is_empty() => {
@@ -549,8 +547,8 @@ impl Study {
         self.check_harmonics(self.harmonics, None)?;
         self.check_sweep(&self.sweep, None)?;
         self.check_range(&self.frequency, None)?;
-        check_outputs(self, base.as_ref(), &self.outputs)?;
-        let mut models = vec![base.clone_box()];
+        check_outputs(self, &base, &self.outputs)?;
+        let mut models = vec![base];
         for fig in &self.figures {
             if fig.model.is_some() {
                 models.push(self.figure_model(fig, reg)?);
@@ -600,9 +598,9 @@ impl Study {
                 self.check_range(r, Some((f, id)))?;
             }
             if let Some(outs) = &fig.outputs {
-                check_outputs(self, m.as_ref(), outs)?;
+                check_outputs(self, &m, outs)?;
             }
-            self.check_fits(f, fig, m.as_ref())?;
+            self.check_fits(f, fig, &m)?;
             match &fig.vary {
                 None if !fig.values.is_empty() => {
                     return Err(self.at(
@@ -642,7 +640,7 @@ impl Study {
                                 ));
                             }
                         } else {
-                            let mut mv = m.clone_box();
+                            let mut mv = m.clone();
                             mv.set_param(v.get_ref(), x)
                                 .and_then(|_| mv.validate())
                                 .map_err(|e| self.at(v.span(), format!("figure '{id}': {e}")))?;
@@ -661,9 +659,9 @@ impl Study {
                         check_domain(m.name(), info, &what, v).map_err(here)?;
                     }
                 }
-                m.clone_box()
+                m.clone()
                     .set_param(name, fs.from)
-                    .and_then(|_| m.clone_box().set_param(name, fs.to))
+                    .and_then(|_| m.clone().set_param(name, fs.to))
                     .map_err(here)?;
                 if !(fs.from.is_finite() && fs.to.is_finite() && fs.from != fs.to) {
                     return Err(self.at(
@@ -682,7 +680,7 @@ impl Study {
                 }
             }
             if let Some(b) = &fig.backbone {
-                self.check_backbone(fig, b, m.as_ref())?;
+                self.check_backbone(fig, b, &m)?;
             }
             if let Some(td) = &fig.timedomain {
                 let at = |key: &str, msg: String| {
@@ -771,7 +769,7 @@ impl Study {
         &self,
         fig: &FigureSpec,
         b: &Spanned<BackboneSpec>,
-        m: &dyn AnyModel,
+        m: &NamedModel,
     ) -> Result<()> {
         let id = fig.id.get_ref();
         if fig.folds.is_some() {
@@ -821,7 +819,7 @@ impl Study {
     /// Every harmonic count of figure `f` fits in memory for its model (with Hill's
     /// matrices when its sweeps check stability), refused at the count: a part too
     /// large would otherwise fail only when run.
-    fn check_fits(&self, f: usize, fig: &FigureSpec, m: &dyn AnyModel) -> Result<()> {
+    fn check_fits(&self, f: usize, fig: &FigureSpec, m: &NamedModel) -> Result<()> {
         let id = fig.id.get_ref();
         let stability =
             self.sweep.merged(fig.sweep.as_ref()).stability != Some(false) && fig.folds.is_none();
@@ -887,7 +885,7 @@ impl Study {
 /// Apply overrides, errors pointing at the parameter name: an unknown name, a value
 /// that is not finite, or one outside the model's domain (a fractional order outside
 /// [0, 2]), which would otherwise fail only when solved.
-fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Result<()> {
+fn apply(study: &Study, m: &mut NamedModel, params: &Params) -> Result<()> {
     for (k, &v) in params {
         m.set_param(k.get_ref(), v).map_err(|e| study.at(k.span(), e))?;
         m.validate().map_err(|e| study.at(k.span(), e))?;
@@ -895,7 +893,7 @@ fn apply(study: &Study, m: &mut dyn AnyModel, params: &Params) -> Result<()> {
     Ok(())
 }
 
-fn check_outputs(study: &Study, m: &dyn AnyModel, outs: &[Spanned<String>]) -> Result<()> {
+fn check_outputs(study: &Study, m: &NamedModel, outs: &[Spanned<String>]) -> Result<()> {
     for o in outs {
         if !m.outputs().iter().any(|x| *x.name == **o.get_ref()) {
             let known: Vec<&str> = m.outputs().iter().map(|x| &*x.name).collect();
