@@ -283,15 +283,16 @@ pub fn cycles_with<M: Model + Clone>(
             if fam.points.len() >= opts.max_steps {
                 break FamilyEnd::Stalled(Stall::StepLimit { steps: opts.max_steps });
             }
-            let (z, tn, it) = match tracer.advance(&y, &t) {
+            let step = match tracer.advance(&y, &t) {
                 Ok(x) => x,
                 Err(why) => break FamilyEnd::Stalled(why),
             };
-            if (tracer.sys.param(&z) - to) * dir >= 0.0 {
+            let z = &step.point;
+            if (tracer.sys.param(z) - to) * dir >= 0.0 {
                 // land on P = to between y and z
-                let (pa, pb) = (tracer.sys.param(&y), tracer.sys.param(&z));
+                let (pa, pb) = (tracer.sys.param(&y), tracer.sys.param(z));
                 let f = (to - pa) / (pb - pa);
-                let mut w: Vec<f64> = y.iter().zip(&z).map(|(a, b)| a + f * (b - a)).collect();
+                let mut w: Vec<f64> = y.iter().zip(z).map(|(a, b)| a + f * (b - a)).collect();
                 break match tracer.sys.correct(&mut w, &ep, to / scale, LOCATE_ITER) {
                     Ok(_) => {
                         fam.points.push(at(&mut tracer, &w));
@@ -305,16 +306,15 @@ pub fn cycles_with<M: Model + Clone>(
                     }),
                 };
             }
-            let p = at(&mut tracer, &z);
+            let p = at(&mut tracer, z);
             let collapsed = size(&p) < opts.collapse * first_size;
             fam.points.push(p);
             fam.steps += 1;
             if collapsed {
                 break FamilyEnd::Collapsed;
             }
-            y = z;
-            t = tn;
-            tracer.adapt(it);
+            tracer.adapt(&step);
+            (y, t) = (step.point, step.tangent);
             if observer(&fam) == Control::Stop {
                 break FamilyEnd::Stopped;
             }

@@ -41,7 +41,7 @@ mod stability;
 
 use crate::balance::Balance;
 use crate::continuation::tracer::{dot, LOCATE_ITER};
-use crate::continuation::Control;
+use crate::continuation::{Control, StepSize};
 use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
 use crate::model::Model;
@@ -83,6 +83,9 @@ pub struct BackboneOptions {
     pub min_step: f64,
     /// Largest step.
     pub max_step: f64,
+    /// Largest turn of the tangent per step, radians: the next step shrinks to
+    /// respect it, and a step that turns by more than twice as much is halved.
+    pub max_turn: f64,
     /// Points at most.
     pub max_steps: usize,
     /// The start's amplitude relative to `to` (small: the linear limit).
@@ -101,6 +104,7 @@ impl Default for BackboneOptions {
             initial_step: 0.05,
             min_step: 1e-6,
             max_step: 0.25,
+            max_turn: 0.15,
             max_steps: 2000,
             start: 1e-4,
         }
@@ -394,6 +398,15 @@ fn trace<M: Model>(
     Ok(res)
 }
 
+/// One accepted pseudo-arclength step of a [`Tracer`].
+struct Stepped {
+    point: Vec<f64>,
+    tangent: Vec<f64>,
+    iterations: usize,
+    /// The turn of the tangent from the step's start, radians.
+    turn: f64,
+}
+
 struct Tracer<'m, M: Model> {
     sys: Epmc<'m, M>,
     eval: OutputEval,
@@ -452,10 +465,11 @@ impl<M: Model> Tracer<'_, M> {
                 },
             }));
         }
-        let (z, tn, it) = match self.advance(y, t) {
+        let step = match self.advance(y, t) {
             Ok(x) => x,
             Err(why) => return Some(BackboneEnd::Stalled(why)),
         };
+        let z = step.point.clone();
         let p = self.point(&z);
         match self.goal {
             Goal::Amplitude(to) if self.amplitude(&p) >= to => {
@@ -475,9 +489,9 @@ impl<M: Model> Tracer<'_, M> {
             _ => {}
         }
         self.push(res, p);
-        *y = z;
-        *t = tn;
-        self.adapt(it);
+        self.adapt(&step);
+        *y = step.point;
+        *t = step.tangent;
         None
     }
 
@@ -534,16 +548,16 @@ impl<M: Model> Tracer<'_, M> {
     }
 
     /// One pseudo-arclength step from `y` along `t`: the corrected point, its tangent
-    /// (oriented along `t`) and the Newton iterations; the step is halved on a failure
-    /// or a turn of the tangent by more than 0.3 rad, and the corrector's reason is
-    /// returned below the smallest step. Nothing is recorded: the caller accepts the
-    /// point (and then calls [`Tracer::adapt`]) or not.
-    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<(Vec<f64>, Vec<f64>, usize), Stall> {
+    /// (oriented along `t`), the Newton iterations and the turn of the tangent; the
+    /// step is halved on a failure or on a turn the step size rejects, and the
+    /// corrector's reason is returned below the smallest step. Nothing is recorded:
+    /// the caller accepts the point (and then calls [`Tracer::adapt`]) or not.
+    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<Stepped, Stall> {
         loop {
             let h = self.h;
             let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
             let target = dot(t, y) + h;
-            let it = match self.sys.correct(&mut z, t, target, self.opts.max_iter) {
+            let iterations = match self.sys.correct(&mut z, t, target, self.opts.max_iter) {
                 Ok(it) => it,
                 Err(why) => {
                     self.h *= 0.5;
@@ -557,24 +571,24 @@ impl<M: Model> Tracer<'_, M> {
             if dot(&tn, t) < 0.0 {
                 tn.iter_mut().for_each(|v| *v = -*v);
             }
-            let angle = dot(&tn, t).clamp(-1.0, 1.0).acos();
-            if angle > 0.3 && h > 2.0 * self.opts.min_step {
+            let turn = dot(&tn, t).clamp(-1.0, 1.0).acos();
+            if self.step_size().rejects_turn(turn, h) {
                 self.h *= 0.5;
                 continue;
             }
-            return Ok((z, tn, it));
+            return Ok(Stepped { point: z, tangent: tn, iterations, turn });
         }
     }
 
-    /// The next step after a point accepted in `it` Newton iterations.
-    fn adapt(&mut self, it: usize) {
-        let factor = match it {
-            0..=2 => 1.6,
-            3 => 1.25,
-            4 => 1.0,
-            _ => 0.6,
-        };
-        self.h = (self.h * factor).clamp(self.opts.min_step, self.opts.max_step);
+    fn step_size(&self) -> StepSize {
+        let o = &self.opts;
+        // The extended system's Newton has no chord steps: two iterations are easy.
+        StepSize { min: o.min_step, max: o.max_step, max_turn: o.max_turn, easy: 2 }
+    }
+
+    /// The next step after `s` was accepted.
+    fn adapt(&mut self, s: &Stepped) {
+        self.h = self.step_size().after(self.h, s.iterations, s.turn, 1.0);
     }
 
     /// The point between `y` and `z` where ξ = 0, by Newton on the row `ξ = 0` from

@@ -5,6 +5,12 @@
 use super::fold_system::FoldSystem;
 use super::{CurveEnd, Cusp, FoldPoint, TurnKind};
 
+/// Corrector iterations that count as no effort ([`StepSize::easy`]): the extended
+/// system's Newton has no chord steps.
+///
+/// [`StepSize::easy`]: crate::continuation::StepSize::easy
+const EASY: usize = 2;
+
 /// The largest Ω component of the unit tangent (scaled unknowns) at a turning point
 /// of the parameter that counts as a cusp: there both components vanish together
 /// (measured at located turning points: 6e-11 and 2e-15 at the cusps of the quarter
@@ -191,7 +197,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
             };
             let t = self.sys.tangent();
             let angle = dot(&t0, &t).clamp(-1.0, 1.0).acos();
-            if angle > 2.0 * self.opts.max_turn && h > 2.0 * self.opts.min_step {
+            if self.opts.step_size(EASY).rejects_turn(angle, h) {
                 self.rejected += 1;
                 self.h *= 0.5;
                 continue;
@@ -204,18 +210,8 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
                 if t0[n + 1] * t[n + 1] < 0.0 { Some(self.locate_cusp(h, t[n + 1])) } else { None };
             self.sys.renew_borders();
             self.accept(y, t);
-            let mut factor: f64 = match it {
-                0..=2 => 1.6,
-                3 => 1.25,
-                4 => 1.0,
-                _ => 0.6,
-            };
-            if angle > 0.0 {
-                factor = factor.min(self.opts.max_turn / angle);
-            }
             let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
-            self.h =
-                (h * factor.clamp(0.25, 2.0)).clamp(self.opts.min_step, self.opts.max_step * amp);
+            self.h = self.opts.step_size(EASY).after(h, it, angle, amp);
             if self.closed() {
                 return Step::Ended(CurveEnd::Closed);
             }

@@ -47,6 +47,7 @@ mod convergence;
 mod events;
 mod jumps;
 mod locate;
+mod step_size;
 mod stepper;
 pub(crate) mod tracer;
 
@@ -58,6 +59,7 @@ use convergence::with_convergence;
 use tracer::Axis;
 
 pub use events::{Control, Event, Observer, Trace};
+pub use step_size::StepSize;
 pub use stepper::{Continuation, LOG_RANGE};
 
 /// Predictor direction (`tangent`, `secant` on the command line and in study files).
@@ -220,6 +222,14 @@ pub struct SweepOptions {
     /// period-doubled branch). With `period` > 1 the continuation runs in `ω = Ω/period`
     /// and the harmonics of `ω` ([`Balance::with_period`](crate::balance::Balance::with_period)).
     pub period: usize,
+}
+
+impl SweepOptions {
+    /// The step-size rule of a path with these options, whose corrector counts
+    /// `easy` iterations as no effort ([`StepSize::easy`]).
+    pub fn step_size(&self, easy: usize) -> StepSize {
+        StepSize { min: self.min_step, max: self.max_step, max_turn: self.max_turn, easy }
+    }
 }
 
 impl Default for SweepOptions {

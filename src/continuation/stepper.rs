@@ -509,8 +509,9 @@ impl<'m, M: Model> Continuation<'m, M> {
     fn walk(&mut self, seg: usize, first: usize, mut h: f64) {
         let n = self.tr.n;
         let (lo_s, hi_s) = (self.tr.scaled(self.lo), self.tr.scaled(self.hi));
-        let (min_step, max_step, max_turn) =
-            (self.opts.min_step, self.opts.max_step, self.opts.max_turn);
+        // The sweep's corrector ends with chord steps: one iteration fewer is as easy.
+        let step = self.opts.step_size(1);
+        let min_step = step.min;
         let (mut y, mut t, mut dirv) = (
             std::mem::take(&mut self.y),
             std::mem::take(&mut self.t),
@@ -543,7 +544,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             };
             self.tr.tangent(&mut t);
             let angle = dot(&self.nodes[last].t, &t).clamp(-1.0, 1.0).acos();
-            if angle > 2.0 * max_turn && h > 2.0 * min_step {
+            if step.rejects_turn(angle, h) {
                 self.trace.stats.rejected_steps += 1;
                 h *= 0.5;
                 continue;
@@ -567,21 +568,10 @@ impl<'m, M: Model> Continuation<'m, M> {
             if self.beyond_bound() {
                 break Some(SegmentEnd::AmplitudeBound);
             }
-            // Step control: corrector effort (Newton iterations: chord updates in
-            // between are cheap) and tangent turn.
-            let mut factor: f64 = match it {
-                0..=1 => 1.6,
-                2 => 1.25,
-                3 => 1.0,
-                _ => 0.6,
-            };
-            if angle > 0.0 {
-                factor = factor.min(max_turn / angle);
-            }
             // Far above the reference amplitude (a branch climbing an asymptote) the
             // natural step is relative: let the largest step grow with the response.
             let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
-            h = (h * factor.clamp(0.25, 2.0)).clamp(min_step, max_step * amp);
+            h = step.after(h, it, angle, amp);
             break None;
         };
         (self.y, self.t, self.dirv) = (y, t, dirv);
