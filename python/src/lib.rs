@@ -6,8 +6,9 @@
 //! curve's points. Continuation settings arrive as a JSON object and are read by the
 //! same `serde` definitions as a study file's `sweep` table. The engine's checks name
 //! arguments by their Python keywords ([`PY_NAMES`]). Every computation runs with the
-//! GIL released; continuations re-acquire it now and then to report progress and to
-//! let Ctrl-C stop them ([`Watch`]). Errors are `ihbm.IhbmError` with the library's
+//! GIL released; continuations run on a thread of their own, re-acquiring the GIL now
+//! and then to report progress ([`Watch`]), while the calling thread looks for Ctrl-C
+//! and stops them within a fraction of a second ([`stoppable`]). Errors are `ihbm.IhbmError` with the library's
 //! message.
 
 use ihbm::backbone::FamilyOptions;
@@ -28,7 +29,7 @@ use ihbm::{report, Error};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
@@ -58,14 +59,15 @@ const PY_NAMES: ArgNames = ArgNames {
     setting: keyword_name,
 };
 
-/// How often a running continuation takes the GIL back: often enough that Ctrl-C
-/// feels immediate, rarely enough that other Python threads are not slowed.
+/// How often a running continuation takes the GIL back to report progress: often
+/// enough to feel live, rarely enough that other Python threads are not slowed.
 const CHECK_EVERY: Duration = Duration::from_millis(50);
 
 /// Watches a continuation running without the GIL: every [`CHECK_EVERY`] it takes the
-/// GIL to run Python's signal handlers (Ctrl-C raises `KeyboardInterrupt` there) and
-/// to call the progress callback `(points, value)`. The first exception either raises
-/// stops the run; it is kept so that the caller gets the partial result with it.
+/// GIL to call the progress callback `(points, value)` (and to run Python's signal
+/// handlers, which only does something on the main thread: off it, [`stoppable`]
+/// looks for Ctrl-C). The first exception either raises stops the run; it is kept so
+/// that the caller gets the partial result with it.
 struct Watch {
     progress: Option<Py<PyAny>>,
     last: Option<Instant>,
@@ -101,14 +103,6 @@ impl Watch {
                 Control::Stop
             }
         }
-    }
-
-    /// The exception that stopped the run, as a Python object (`None` if none did).
-    /// A Ctrl-C after the last check counts too: the whole result then goes with it
-    /// instead of being lost to a `KeyboardInterrupt` raised after the call.
-    fn stopped_by(self, py: Python<'_>) -> Option<Py<PyAny>> {
-        let late = || py.check_signals().err();
-        self.stopped_by.or_else(late).map(|e| e.into_value(py).into_any())
     }
 }
 
@@ -184,34 +178,29 @@ fn sweep_out<'py>(
     Ok((json_text(&report::sweep_json(curve)), curve_columns(py, curve)?, stopped_by))
 }
 
-/// Trace a curve of `model` on a thread of its own while this one, without the GIL,
-/// looks for Python's signals every few milliseconds (signal handlers run on the
-/// main thread only): Ctrl-C stops the curve at its next point or, when that does not
-/// come within the grace period (one point of a large problem can take minutes),
-/// keeps it as far as its last point. The curve, and the exception that stopped it.
-fn traced<F>(
+/// Run `work` on a thread of its own while this one, without the GIL, looks for
+/// Python's signals every few milliseconds (signal handlers run on the main thread
+/// only): Ctrl-C sets the flag `work`'s observer stops at, and when the work does not
+/// return within the grace period (one point of a large problem can take minutes),
+/// `salvage` gives what it had published. `work` gets the [`Watch`] that reports its
+/// progress. The result, and the exception that stopped it.
+fn stoppable<R, F>(
     py: Python<'_>,
-    model: NamedModel,
-    stability_checked: bool,
     progress: Option<Py<PyAny>>,
-    trace: F,
-) -> PyResult<(Curve, Option<Py<PyAny>>)>
+    work: F,
+    salvage: impl FnOnce() -> Option<R>,
+) -> PyResult<(R, Option<Py<PyAny>>)>
 where
-    F: FnOnce(&NamedModel, &mut dyn Observer) -> ihbm::Result<Curve> + Send + 'static,
+    R: Send + 'static,
+    F: FnOnce(&mut Watch, &AtomicBool) -> ihbm::Result<R> + Send + 'static,
 {
-    let name = model.name().to_string();
-    let copy = TraceCopy::default();
     let stop = Arc::new(AtomicBool::new(false));
-    let work = {
-        let (copy, stop) = (copy.clone(), Arc::clone(&stop));
+    let run = {
+        let stop = Arc::clone(&stop);
         move || {
             let mut watch = Watch::new(progress);
-            let curve = {
-                let mut observer =
-                    copy.watching(progress::Stoppable { inner: &mut watch, stop: &stop });
-                trace(&model, &mut observer)
-            };
-            (curve, watch.stopped_by)
+            let r = work(&mut watch, &stop);
+            (r, watch.stopped_by)
         }
     };
     let mut caught: Option<PyErr> = None;
@@ -224,25 +213,51 @@ where
                 }
                 caught.is_some()
             },
-            work,
+            run,
         )
     });
     // A Ctrl-C after the last look counts too: the whole result then goes with it
     // instead of being lost to a KeyboardInterrupt raised after the call.
     let value = |e: PyErr| Some(e.into_value(py).into_any());
     match ran {
-        Detached::Returned((curve, by)) => {
-            let curve = curve.map_err(py_err)?;
-            Ok((curve, by.or(caught).or_else(|| py.check_signals().err()).and_then(value)))
+        Detached::Returned((r, by)) => {
+            let r = r.map_err(py_err)?;
+            Ok((r, by.or(caught).or_else(|| py.check_signals().err()).and_then(value)))
         }
-        Detached::Abandoned => match copy.stopped_curve(&name, stability_checked) {
-            Some(curve) => Ok((curve, caught.and_then(value))),
+        Detached::Abandoned => match salvage() {
+            Some(r) => Ok((r, caught.and_then(value))),
             None => {
                 Err(caught.unwrap_or_else(|| IhbmError::new_err("stopped before the first point")))
             }
         },
         Detached::Panicked(why) => Err(pyo3::exceptions::PyRuntimeError::new_err(why)),
     }
+}
+
+/// [`stoppable`] for a curve of `model`: what is kept after an abandoned run is the
+/// curve as far as its last point.
+fn traced<F>(
+    py: Python<'_>,
+    model: NamedModel,
+    stability_checked: bool,
+    progress: Option<Py<PyAny>>,
+    trace: F,
+) -> PyResult<(Curve, Option<Py<PyAny>>)>
+where
+    F: FnOnce(&NamedModel, &mut dyn Observer) -> ihbm::Result<Curve> + Send + 'static,
+{
+    let name = model.name().to_string();
+    let copy = TraceCopy::default();
+    let published = copy.clone();
+    stoppable(
+        py,
+        progress,
+        move |watch, stop| {
+            let mut observer = published.watching(progress::Stoppable { inner: watch, stop });
+            trace(&model, &mut observer)
+        },
+        || copy.stopped_curve(&name, stability_checked),
+    )
 }
 
 /// A model: built in, read from a model file, or from text.
@@ -468,21 +483,35 @@ impl NativeModel {
             None => Boundary::default(),
             Some(b) => keyword(b, "boundary")?,
         };
-        let r = FoldRange {
-            param,
-            from: value_from,
-            to: value_to,
-            omega: (omega_from, omega_to),
-            boundary,
-        };
-        let mut watch = Watch::new(progress);
-        let mut observe = |_: &FoldEvent, f: &FoldCurves| {
-            let points = f.curves.iter().map(|c| c.points.len()).sum();
-            let value = f.curves.iter().rev().find_map(|c| c.points.last()).map(|p| p.value);
-            watch.check(points, value.unwrap_or(f64::NAN))
-        };
-        let f = py.detach(|| m.fold_curves(&r, &s, &mut observe)).map_err(py_err)?;
-        Ok((json_text(&report::folds_json(&f)), watch.stopped_by(py)))
+        // The analysis as far as it has come, for an interruption it does not answer
+        // within the grace period.
+        let copy: Arc<Mutex<Option<FoldCurves>>> = Arc::default();
+        let published = Arc::clone(&copy);
+        let param = param.to_string();
+        let (f, stopped_by) = stoppable(
+            py,
+            progress,
+            move |watch, stop| {
+                let mut observe = |_: &FoldEvent, f: &FoldCurves| {
+                    if let Ok(mut c) = published.lock() {
+                        *c = Some(f.clone());
+                    }
+                    if stop.load(Ordering::Relaxed) {
+                        return Control::Stop;
+                    }
+                    let points = f.curves.iter().map(|c| c.points.len()).sum();
+                    let value =
+                        f.curves.iter().rev().find_map(|c| c.points.last()).map(|p| p.value);
+                    watch.check(points, value.unwrap_or(f64::NAN))
+                };
+                let omega = (omega_from, omega_to);
+                let r =
+                    FoldRange { param: &param, from: value_from, to: value_to, omega, boundary };
+                m.fold_curves(&r, &s, &mut observe)
+            },
+            || copy.lock().ok().and_then(|mut c| c.take()),
+        )?;
+        Ok((json_text(&report::folds_json(&f)), stopped_by))
     }
 
     /// The cycle JSON: a limit cycle of an autonomous model near the frequency `omega`.

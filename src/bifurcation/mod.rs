@@ -198,7 +198,8 @@ pub struct FoldCurves {
     pub steps: (usize, usize),
 }
 
-/// What [`fold_curves_with`] reports as it goes.
+/// What [`FoldContinuation::step`] produced (and [`fold_curves_with`] reports as it
+/// goes). Indices point into the [`FoldCurves`] traced so far.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FoldEvent {
     /// A sweep at an end of the range found this many folds to start from.
@@ -216,6 +217,9 @@ pub enum FoldEvent {
     Cusp(usize),
     /// `curves[i]` ended; its `ended` says why.
     CurveEnd(usize),
+    /// Nothing more to trace; [`FoldContinuation::finish`] gives the result. Every
+    /// later `step` returns `Finished` again.
+    Finished,
 }
 
 /// What a two-parameter curve follows.
@@ -335,115 +339,251 @@ pub fn fold_curves_with<M: Model + Clone>(
     opts: &FoldCurveOptions,
     observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
 ) -> Result<FoldCurves> {
-    let info = model.params_info();
-    let Some(pinfo) = info.get(param) else {
-        return Err(Error::InvalidValue {
-            what: "parameter index".into(),
-            value: param.to_string(),
-            expected: format!("one of the model's {} parameters (0..{})", info.len(), info.len()),
-        });
-    };
-    let name = pinfo.name.to_string();
-    if !(from.is_finite() && to.is_finite()) || from == to {
-        return Err(Error::InvalidValue {
-            what: format!("range of {name}"),
-            value: format!("{from} to {to}"),
-            expected: "two different finite values".into(),
-        });
-    }
-    let (w0, w1) = opts.omega;
-    if !(w0.is_finite() && w1.is_finite() && w0 > 0.0 && w1 > w0) {
-        return Err(Error::InvalidValue {
-            what: "frequency range".into(),
-            value: format!("{w0} to {w1}"),
-            expected: "finite values with 0 < from < to".into(),
-        });
-    }
-    let (lo, hi) = (from.min(to), from.max(to));
-    // The domain is an interval: with both ends in it, so is the whole range.
-    for v in [from, to] {
-        crate::model::check_domain(model.name(), pinfo, &format!("end of the range of {name}"), v)?;
-    }
-    for v in [from, to] {
-        let mut m = model.clone();
-        m.set_param_value(param, v);
-        m.validate()?;
-    }
-    let mut sweep_opts = opts.sweep.clone();
-    sweep_opts.convergence = None;
-    sweep_opts.stability = match opts.boundary {
-        // folds do not depend on stability; period doubling is a change of it
-        Boundary::Fold => None,
-        Boundary::PeriodDoubling | Boundary::Torus => {
-            Some(sweep_opts.stability.unwrap_or_default())
+    let mut run = FoldContinuation::new(model, param, from, to, opts)?;
+    loop {
+        let e = run.step()?;
+        if e == FoldEvent::Finished || observer(&e, run.traced()) == Control::Stop {
+            return Ok(run.finish());
         }
-    };
-    let scale = if lo > 0.0 && hi / lo >= 10.0 { ParamScale::Log } else { ParamScale::Linear };
-    let mut res = FoldCurves {
-        boundary: opts.boundary,
-        model: model.name().to_string(),
-        harmonics: sweep_opts.harmonics,
-        param,
-        parameter: name.clone(),
-        output_names: model.outputs().iter().map(|o| o.name.to_string()).collect(),
-        range: (from, to),
-        omega: (w0, w1),
-        start_folds: (0, 0),
-        curves: Vec::new(),
-        cusps: Vec::new(),
-        iterations: 0,
-        steps: (0, 0),
-    };
-    // The sweeps at both ends, then the curves from their folds.
-    let mut starts = Vec::new();
-    for (end, v) in [(RangeEnd::From, from), (RangeEnd::To, to)] {
-        let mut m = model.clone();
-        m.set_param_value(param, v);
-        let curve = sweep(&m, w0, w1, &sweep_opts)?;
-        let folds = start_points(&m, &curve, opts.boundary, sweep_opts.harmonics);
+    }
+}
+
+/// A fold (period-doubling, torus) analysis driven step by step, as
+/// [`Continuation`](crate::continuation::Continuation) drives a sweep: each
+/// [`step`](FoldContinuation::step) does one piece of work — the sweep at one end of
+/// the parameter range, the start of a curve, one step along it — and says what it
+/// produced; [`finish`](FoldContinuation::finish) gives what is traced, the curve
+/// being traced (if any) ended `Stopped`.
+///
+/// ```
+/// use ihbm::bifurcation::{FoldContinuation, FoldCurveOptions, FoldEvent};
+/// use ihbm::models::Duffing;
+/// use ihbm::Model;
+///
+/// let model = Duffing::default();
+/// let mut opts = FoldCurveOptions::default();
+/// opts.sweep.harmonics = 1;
+/// opts.omega = (0.5, 3.0);
+/// let f = model.param_index("F").unwrap();
+/// let mut run = FoldContinuation::new(&model, f, 0.01, 0.3, &opts).unwrap();
+/// // Two sweeps, then the first curve starts.
+/// assert_eq!(run.step().unwrap(), FoldEvent::Swept(ihbm::bifurcation::RangeEnd::From, 0));
+/// assert_eq!(run.step().unwrap(), FoldEvent::Swept(ihbm::bifurcation::RangeEnd::To, 2));
+/// assert_eq!(run.step().unwrap(), FoldEvent::CurveStart(0));
+/// while run.step().unwrap() != FoldEvent::Finished {}
+/// assert_eq!(run.finish().cusps.len(), 1);
+/// ```
+pub struct FoldContinuation<'m, M: Model + Clone> {
+    model: &'m M,
+    param: usize,
+    range: (f64, f64),
+    boundary: Boundary,
+    sweep_opts: SweepOptions,
+    scale: ParamScale,
+    res: FoldCurves,
+    /// The folds found by the end sweeps that curves start from.
+    starts: std::collections::VecDeque<(RangeEnd, f64, usize, crate::results::Fold)>,
+    phase: Phase<'m, M>,
+    /// Events already produced, not yet returned (a cusp comes with its point).
+    queue: std::collections::VecDeque<FoldEvent>,
+}
+
+/// Where a [`FoldContinuation`] stands.
+enum Phase<'m, M: Model> {
+    /// The sweep at this end of the range comes next.
+    Sweep(RangeEnd),
+    /// The next curve starts (from the next start point not yet traced).
+    Start,
+    /// Curve `ci` is being traced.
+    Walk { ci: usize, tracer: Box<FoldCurveTracer<'m, M>> },
+    /// Neither end sweep found a start: the next step says so.
+    NoFolds,
+    /// Everything is traced.
+    Finished,
+}
+
+impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
+    /// Check the input and set up the analysis; nothing is computed yet. Errors for
+    /// bad input (an unknown parameter index, an empty or non-finite range, a range
+    /// outside the parameter's domain, a bad frequency range).
+    pub fn new(
+        model: &'m M,
+        param: usize,
+        from: f64,
+        to: f64,
+        opts: &FoldCurveOptions,
+    ) -> Result<Self> {
+        let info = model.params_info();
+        let Some(pinfo) = info.get(param) else {
+            return Err(Error::InvalidValue {
+                what: "parameter index".into(),
+                value: param.to_string(),
+                expected: format!(
+                    "one of the model's {} parameters (0..{})",
+                    info.len(),
+                    info.len()
+                ),
+            });
+        };
+        let name = pinfo.name.to_string();
+        if !(from.is_finite() && to.is_finite()) || from == to {
+            return Err(Error::InvalidValue {
+                what: format!("range of {name}"),
+                value: format!("{from} to {to}"),
+                expected: "two different finite values".into(),
+            });
+        }
+        let (w0, w1) = opts.omega;
+        if !(w0.is_finite() && w1.is_finite() && w0 > 0.0 && w1 > w0) {
+            return Err(Error::InvalidValue {
+                what: "frequency range".into(),
+                value: format!("{w0} to {w1}"),
+                expected: "finite values with 0 < from < to".into(),
+            });
+        }
+        let (lo, hi) = (from.min(to), from.max(to));
+        // The domain is an interval: with both ends in it, so is the whole range.
+        for v in [from, to] {
+            crate::model::check_domain(
+                model.name(),
+                pinfo,
+                &format!("end of the range of {name}"),
+                v,
+            )?;
+        }
+        for v in [from, to] {
+            let mut m = model.clone();
+            m.set_param_value(param, v);
+            m.validate()?;
+        }
+        let mut sweep_opts = opts.sweep.clone();
+        sweep_opts.convergence = None;
+        sweep_opts.stability = match opts.boundary {
+            // folds do not depend on stability; period doubling is a change of it
+            Boundary::Fold => None,
+            Boundary::PeriodDoubling | Boundary::Torus => {
+                Some(sweep_opts.stability.unwrap_or_default())
+            }
+        };
+        let scale = if lo > 0.0 && hi / lo >= 10.0 { ParamScale::Log } else { ParamScale::Linear };
+        let res = FoldCurves {
+            boundary: opts.boundary,
+            model: model.name().to_string(),
+            harmonics: sweep_opts.harmonics,
+            param,
+            parameter: name.clone(),
+            output_names: model.outputs().iter().map(|o| o.name.to_string()).collect(),
+            range: (from, to),
+            omega: (w0, w1),
+            start_folds: (0, 0),
+            curves: Vec::new(),
+            cusps: Vec::new(),
+            iterations: 0,
+            steps: (0, 0),
+        };
+        Ok(FoldContinuation {
+            model,
+            param,
+            range: (from, to),
+            boundary: opts.boundary,
+            sweep_opts,
+            scale,
+            res,
+            starts: Default::default(),
+            phase: Phase::Sweep(RangeEnd::From),
+            queue: Default::default(),
+        })
+    }
+
+    /// Everything traced so far.
+    pub fn traced(&self) -> &FoldCurves {
+        &self.res
+    }
+
+    /// Do the next piece of work and say what it produced. Errors where the analysis
+    /// cannot go on at all: a sweep at an end of the range fails, neither end has a
+    /// fold to start from ([`Error::NoFolds`]), or a model that cannot be set up;
+    /// numerical trouble on a curve ends that curve instead, with the reason.
+    pub fn step(&mut self) -> Result<FoldEvent> {
+        if let Some(e) = self.queue.pop_front() {
+            return Ok(e);
+        }
+        let r = match std::mem::replace(&mut self.phase, Phase::Finished) {
+            Phase::Sweep(end) => self.sweep_end(end),
+            Phase::Start => self.start_curve(),
+            Phase::Walk { ci, tracer } => Ok(self.walk(ci, tracer)),
+            Phase::NoFolds => Err(self.no_folds()),
+            Phase::Finished => Ok(FoldEvent::Finished),
+        };
+        // An error ends the analysis: the phase stays Finished.
+        r
+    }
+
+    /// What is traced: the curve being traced (if any) ends `Stopped`, with its
+    /// statistics counted.
+    pub fn finish(mut self) -> FoldCurves {
+        if let Phase::Walk { tracer, .. } = std::mem::replace(&mut self.phase, Phase::Finished) {
+            self.count(&tracer);
+        }
+        self.res
+    }
+
+    fn count(&mut self, tracer: &FoldCurveTracer<'m, M>) {
+        self.res.iterations += tracer.sys.iterations;
+        self.res.steps.0 += tracer.steps;
+        self.res.steps.1 += tracer.rejected;
+    }
+
+    /// The sweep at `end` of the range and the folds it offers as starts.
+    fn sweep_end(&mut self, end: RangeEnd) -> Result<FoldEvent> {
+        let (from, to) = self.range;
+        let v = if end == RangeEnd::From { from } else { to };
+        let mut m = self.model.clone();
+        m.set_param_value(self.param, v);
+        let (w0, w1) = self.res.omega;
+        let curve = sweep(&m, w0, w1, &self.sweep_opts)?;
+        let folds = start_points(&m, &curve, self.boundary, self.sweep_opts.harmonics);
+        let n = folds.len();
         match end {
-            RangeEnd::From => res.start_folds.0 = folds.len(),
-            RangeEnd::To => res.start_folds.1 = folds.len(),
+            RangeEnd::From => self.res.start_folds.0 = n,
+            RangeEnd::To => self.res.start_folds.1 = n,
         }
-        if observer(&FoldEvent::Swept(end, folds.len()), &res) == Control::Stop {
-            return Ok(res);
-        }
-        starts.extend(folds.into_iter().enumerate().map(|(k, f)| (end, v, k, f)));
+        self.starts.extend(folds.into_iter().enumerate().map(|(k, f)| (end, v, k, f)));
+        self.phase = match end {
+            RangeEnd::From => Phase::Sweep(RangeEnd::To),
+            RangeEnd::To if self.starts.is_empty() => Phase::NoFolds,
+            RangeEnd::To => Phase::Start,
+        };
+        Ok(FoldEvent::Swept(end, n))
     }
-    if starts.is_empty() {
-        return Err(Error::NoFolds {
-            what: opts.boundary.to_string(),
-            parameter: name,
-            from,
-            to,
-            omega_from: w0,
-            omega_to: w1,
-        });
-    }
-    let ndof = model.dofs().len();
-    let mut stopped = false;
-    for (end, v, start_fold, fold) in starts {
-        if stopped {
-            break;
-        }
-        if traced_already(&res, v, fold.omega, &fold.coeffs) {
-            continue;
-        }
+
+    /// Start the next curve from the next start point that no curve has passed
+    /// through: its first event, or `Finished` when none is left.
+    fn start_curve(&mut self) -> Result<FoldEvent> {
+        let (model, param, harmonics) = (self.model, self.param, self.sweep_opts.harmonics);
+        let (from, to) = self.range;
+        let (lo, hi) = (from.min(to), from.max(to));
+        let (w0, w1) = self.res.omega;
+        let Some((end, v, start_fold, fold)) = self.next_start() else {
+            return Ok(FoldEvent::Finished);
+        };
         let mut m = model.clone();
         m.set_param_value(param, v);
-        let bal = Balance::new(model, sweep_opts.harmonics)?;
-        let sys = FoldSystem::new(bal, param, scale, sweep_opts.tol);
-        let ci = res.curves.len();
-        let sys = match opts.boundary {
+        let bal = Balance::new(model, harmonics)?;
+        let sys = FoldSystem::new(bal, param, self.scale, self.sweep_opts.tol);
+        let ci = self.res.curves.len();
+        let sys = match self.boundary {
             Boundary::Fold => Ok(sys),
             Boundary::PeriodDoubling => {
-                Ok(sys.period_doubling(OddBlock::new(model, ndof, sweep_opts.harmonics)?))
+                let ndof = model.dofs().len();
+                Ok(sys.period_doubling(OddBlock::new(model, ndof, harmonics)?))
             }
-            Boundary::Torus => torus_frequency(&m, sweep_opts.harmonics, &fold)
+            Boundary::Torus => torus_frequency(&m, harmonics, &fold)
                 .and_then(|w| sys.torus(w).map_err(Stall::from)),
         };
         let up = (end == RangeEnd::From) == (to > from);
-        let sr = reference_force(&m, sweep_opts.harmonics, fold.omega)?;
+        let sr = reference_force(&m, harmonics, fold.omega)?;
+        let scale = self.scale;
         let tracer = sys.and_then(|mut sys| {
             sys.sa = fold.coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
             sys.so = w1 - w0;
@@ -451,67 +591,88 @@ pub fn fold_curves_with<M: Model + Clone>(
             sys.sr = sr;
             sys.omega_range = (w0, w1);
             sys.param_range = (lo, hi);
-            FoldCurveTracer::new(sys, model, &sweep_opts, (&fold.coeffs, fold.omega, v), up)
+            FoldCurveTracer::new(sys, model, &self.sweep_opts, (&fold.coeffs, fold.omega, v), up)
         });
-        let mut tracer = match tracer {
-            Ok(t) => t,
+        self.phase = Phase::Start;
+        match tracer {
+            Ok(tracer) => {
+                self.res.curves.push(FoldCurve {
+                    start: end,
+                    start_fold,
+                    points: tracer.points.clone(),
+                    ended: CurveEnd::Stopped,
+                });
+                self.phase = Phase::Walk { ci, tracer: Box::new(tracer) };
+                Ok(FoldEvent::CurveStart(ci))
+            }
             Err(why) => {
-                res.curves.push(FoldCurve {
+                self.res.curves.push(FoldCurve {
                     start: end,
                     start_fold,
                     points: Vec::new(),
                     ended: CurveEnd::Stalled(why),
                 });
-                stopped = observer(&FoldEvent::CurveEnd(ci), &res) == Control::Stop;
-                continue;
+                Ok(FoldEvent::CurveEnd(ci))
             }
-        };
-        res.curves.push(FoldCurve {
-            start: end,
-            start_fold,
-            points: tracer.points.clone(),
-            ended: CurveEnd::Stopped,
-        });
-        let mut control = observer(&FoldEvent::CurveStart(ci), &res);
-        loop {
-            if control == Control::Stop {
-                stopped = true;
-                break;
-            }
-            match tracer.step() {
-                Step::Point(cusp) => {
-                    let k = tracer.points.len() - 1;
-                    res.curves[ci].points.push(tracer.points[k].clone());
-                    if let Some(mut c) = cusp {
-                        c.curve = ci;
-                        if opts.boundary != Boundary::Fold {
-                            c.kind = TurnKind::Turn;
-                        }
-                        res.cusps.push(c);
-                        control = observer(&FoldEvent::Cusp(res.cusps.len() - 1), &res);
-                        if control == Control::Stop {
-                            continue;
-                        }
-                    }
-                    control = observer(&FoldEvent::Point { curve: ci, index: k }, &res);
-                }
-                Step::Ended(e) => {
-                    // a landing adds its point
-                    let have = res.curves[ci].points.len();
-                    res.curves[ci].points.extend(tracer.points[have..].iter().cloned());
-                    res.curves[ci].ended = e;
-                    break;
-                }
-            }
-        }
-        res.iterations += tracer.sys.iterations;
-        res.steps.0 += tracer.steps;
-        res.steps.1 += tracer.rejected;
-        if observer(&FoldEvent::CurveEnd(ci), &res) == Control::Stop {
-            stopped = true;
         }
     }
-    Ok(res)
+
+    /// The next start point no curve traced so far passes through.
+    fn next_start(&mut self) -> Option<(RangeEnd, f64, usize, crate::results::Fold)> {
+        while let Some(start) = self.starts.pop_front() {
+            if !traced_already(&self.res, start.1, start.3.omega, &start.3.coeffs) {
+                return Some(start);
+            }
+        }
+        None
+    }
+
+    /// One step along curve `ci`: its point (after the cusp it passed, if any), or
+    /// its end.
+    fn walk(&mut self, ci: usize, mut tracer: Box<FoldCurveTracer<'m, M>>) -> FoldEvent {
+        match tracer.step() {
+            Step::Point(cusp) => {
+                let k = tracer.points.len() - 1;
+                self.res.curves[ci].points.push(tracer.points[k].clone());
+                self.phase = Phase::Walk { ci, tracer };
+                let point = FoldEvent::Point { curve: ci, index: k };
+                match cusp {
+                    Some(mut c) => {
+                        c.curve = ci;
+                        if self.boundary != Boundary::Fold {
+                            c.kind = TurnKind::Turn;
+                        }
+                        self.res.cusps.push(c);
+                        self.queue.push_back(point);
+                        FoldEvent::Cusp(self.res.cusps.len() - 1)
+                    }
+                    None => point,
+                }
+            }
+            Step::Ended(e) => {
+                // a landing adds its point
+                let have = self.res.curves[ci].points.len();
+                self.res.curves[ci].points.extend(tracer.points[have..].iter().cloned());
+                self.res.curves[ci].ended = e;
+                self.count(&tracer);
+                self.phase = Phase::Start;
+                FoldEvent::CurveEnd(ci)
+            }
+        }
+    }
+
+    /// Neither end of the range has a fold to start from.
+    fn no_folds(&self) -> Error {
+        let (from, to) = self.range;
+        Error::NoFolds {
+            what: self.boundary.to_string(),
+            parameter: self.res.parameter.clone(),
+            from,
+            to,
+            omega_from: self.res.omega.0,
+            omega_to: self.res.omega.1,
+        }
+    }
 }
 
 /// The torus frequency at a located torus point: the imaginary part of the central

@@ -15,8 +15,8 @@ use crate::results::Curve;
 use crate::study;
 use std::io::Write;
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
@@ -152,15 +152,54 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "fold curves of {name} for {param} from {from} to {to}"
             ));
             let settings = args.cont.settings(args.harmonics);
-            let range =
-                FoldRange { param: &param, from, to, omega: (omega_from, omega_to), boundary };
-            let mut watch = |e: &FoldEvent, f: &FoldCurves| {
-                pb.set_message(progress::fold_message(&name, e, f));
-                Control::Continue
+            let stop = interrupt_flag();
+            // The analysis as far as it has come, for an interruption it does not
+            // answer within the grace period (a fold point of a large problem is slow).
+            let copy: Arc<Mutex<Option<FoldCurves>>> = Arc::default();
+            let work = {
+                let (copy, stop, pb, name) = (copy.clone(), stop.clone(), pb.clone(), name.clone());
+                move || {
+                    let omega = (omega_from, omega_to);
+                    let range = FoldRange { param: &param, from, to, omega, boundary };
+                    let mut watch = |e: &FoldEvent, f: &FoldCurves| {
+                        if let Ok(mut c) = copy.lock() {
+                            *c = Some(f.clone());
+                        }
+                        if stop.load(Ordering::Relaxed) {
+                            return Control::Stop;
+                        }
+                        pb.set_message(progress::fold_message(&name, e, f));
+                        Control::Continue
+                    };
+                    model.fold_curves(&range, &settings, &mut watch)
+                }
             };
-            let res = model.fold_curves(&range, &settings, &mut watch).map_err(Failure::from_error);
+            let res = match detach::run(&stop, work) {
+                Detached::Returned(res) => res.map_err(Failure::from_error),
+                Detached::Abandoned => {
+                    copy.lock().ok().and_then(|mut c| c.take()).ok_or_else(|| Failure {
+                        code: super::EXIT_INTERRUPTED,
+                        message: "interrupted before the first fold: nothing written".into(),
+                    })
+                }
+                Detached::Panicked(why) => Err(Failure::failed(why)),
+            };
             pb.finish_and_clear();
-            write_folds(&res?, &args, out)
+            let res = res?;
+            write_folds(&res, &args, out)?;
+            if stop.load(Ordering::Relaxed) {
+                let message = match res.curves.len() {
+                    0 => "interrupted before the first fold curve: what the sweeps at the ends \
+                          of the range found is written"
+                        .to_string(),
+                    n => format!(
+                        "interrupted: the {n} fold curve(s) traced so far are written (the one \
+                         being traced ended 'stopped')"
+                    ),
+                };
+                return Err(Failure { code: super::EXIT_INTERRUPTED, message });
+            }
+            Ok(())
         }
         Command::Backbone { name, to, mode, output, harmonics, set, csv, json, plot } => {
             distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;

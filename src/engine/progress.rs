@@ -109,5 +109,6 @@ pub fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
             format!("{label}: cusp at {} = {:.6e}", f.parameter, f.cusps[i].value)
         }
         FoldEvent::CurveStart(i) | FoldEvent::CurveEnd(i) => format!("{label}: curve {}", i + 1),
+        FoldEvent::Finished => format!("{label}: done"),
     }
 }

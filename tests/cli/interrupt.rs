@@ -168,7 +168,7 @@ fn an_interrupted_sweep_writes_its_points_so_far() {
 /// the quarter car takes minutes (a dense factorisation of order 6 400 and its
 /// stability), yet SIGTERM ends a study within the grace period of a fraction of a
 /// second (allowed here: 5 s), with 130 and a summary naming the curve stopped part
-/// way; and a sweep likewise, saying that no point was traced.
+/// way; and a sweep and a fold analysis likewise, saying that nothing was traced.
 #[test]
 fn a_signal_inside_one_long_point_stops_within_seconds() {
     let dir = tmp("stopped-inside-a-point");
@@ -216,6 +216,22 @@ fn a_signal_inside_one_long_point_stops_within_seconds() {
     assert_eq!(code, Some(130), "{err}");
     assert_eq!(err.trim_end(), "error: interrupted before the first point: nothing written");
     assert!(!json.exists());
+
+    // A fold analysis: its end sweeps at N = 600 take minutes too.
+    let json = dir.join("folds.json");
+    let child = Command::new(env!("CARGO_BIN_EXE_ihbm"))
+        .args(["folds", "duffing", "--param", "F", "--from", "0.01", "--to", "0.3"])
+        .args(["--omega-from", "0.5", "--omega-to", "3", "--harmonics", "600", "--json"])
+        .arg(&json)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    let (code, err, waited) = stop_and_wait(child, "-TERM");
+    assert!(waited < Duration::from_secs(5), "exited {waited:?} after the signal");
+    assert_eq!(code, Some(130), "{err}");
+    assert!(err.starts_with("error: interrupted before the first fold"), "{err}");
 }
 
 /// Send `sig` and wait for the exit: its code, its standard error, and how long it

@@ -145,3 +145,64 @@ fn a_range_without_folds_is_refused_with_the_ranges_in_the_message() {
     let e = fold_curves(&model, f, 0.001, 0.01, &opts).unwrap_err().to_string();
     assert!(e.contains("no fold") && e.contains("F = 0.001") && e.contains("[0.5, 3]"), "{e}");
 }
+
+/// Driving the fold analysis step by step is the same computation as `fold_curves`:
+/// the events name both end sweeps, every curve's start, points and end, and the
+/// cusp, each once and in order; and a run stopped at its cusp keeps, bit for bit, a
+/// prefix of the whole analysis, the curve being traced ended "stopped".
+#[test]
+fn stepping_the_fold_analysis_gives_fold_curves_and_a_stop_keeps_a_prefix() {
+    use ihbm::bifurcation::{FoldContinuation, FoldEvent, RangeEnd};
+    let (model, whole) = duffing_folds();
+    let mut opts = FoldCurveOptions::default();
+    opts.sweep.harmonics = 1;
+    opts.omega = (0.5, 3.0);
+    let f = model.param_index("F").unwrap();
+    let mut run = FoldContinuation::new(&model, f, 0.01, 0.3, &opts).unwrap();
+    let mut events = Vec::new();
+    loop {
+        let e = run.step().unwrap();
+        if e == FoldEvent::Finished {
+            break;
+        }
+        events.push(e);
+    }
+    assert_eq!(run.step().unwrap(), FoldEvent::Finished, "finished stays finished");
+    assert_eq!(run.finish(), whole);
+    assert_eq!(
+        events[..2],
+        [FoldEvent::Swept(RangeEnd::From, 0), FoldEvent::Swept(RangeEnd::To, 2)]
+    );
+    let count = |want: fn(&FoldEvent) -> bool| events.iter().filter(|e| want(e)).count();
+    assert_eq!(count(|e| matches!(e, FoldEvent::CurveStart(_))), whole.curves.len());
+    assert_eq!(count(|e| matches!(e, FoldEvent::CurveEnd(_))), whole.curves.len());
+    assert_eq!(count(|e| matches!(e, FoldEvent::Cusp(_))), whole.cusps.len());
+    // Every curve's points after its start, in order: each step's, and the last one
+    // a landing on the end of the range adds with the curve's end.
+    for (ci, c) in whole.curves.iter().enumerate() {
+        let seen: Vec<usize> = events
+            .iter()
+            .filter_map(|e| match *e {
+                FoldEvent::Point { curve, index } if curve == ci => Some(index),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(seen, (1..=seen.len()).collect::<Vec<_>>());
+        assert!(
+            c.points.len() - seen.len() <= 2,
+            "{} points, {} events",
+            c.points.len(),
+            seen.len()
+        );
+    }
+
+    let mut run = FoldContinuation::new(&model, f, 0.01, 0.3, &opts).unwrap();
+    while !matches!(run.step().unwrap(), FoldEvent::Cusp(_) | FoldEvent::Finished) {}
+    let part = run.finish();
+    assert_eq!(part.cusps, whole.cusps);
+    let c = part.curves.len() - 1;
+    assert_eq!(part.curves[..c], whole.curves[..c]);
+    let (p, w) = (&part.curves[c].points, &whole.curves[c].points);
+    assert_eq!(p[..], w[..p.len()]);
+    assert_eq!(part.curves[c].ended, CurveEnd::Stopped);
+}
