@@ -223,7 +223,7 @@ pub fn break_symmetry<M: Model + Clone>(
     let ndof = model.dofs().len();
     let even: Vec<bool> = odd_harmonics(ndof, n).into_iter().map(|o| !o).collect();
     let size = |mask: bool| {
-        a.iter().zip(&even).filter(|(_, &e)| e == mask).fold(0.0f64, |m, (x, _)| m.max(x.abs()))
+        a.iter().zip(&even).filter(|&(_, &e)| e == mask).fold(0.0f64, |m, (x, _)| m.max(x.abs()))
     };
     // Near the branch point the even block is nearly singular and amplifies rounding
     // in the even harmonics (measured 1e-7 of the odd ones at N = 16); a solution
@@ -280,7 +280,7 @@ fn critical_direction<M: Model>(
     for _ in 0..3 {
         lu.solve(&mut v);
         // rounding aside the other components stay zero: keep them so
-        v.iter_mut().zip(odd).filter(|(_, &o)| !o).for_each(|(x, _)| *x = 0.0);
+        v.iter_mut().zip(odd).filter(|&(_, &o)| !o).for_each(|(x, _)| *x = 0.0);
         let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         if !(norm.is_finite() && norm > 0.0) {
             return Err(Error::Other(format!("no critical direction at the branch at ω = {w}")));

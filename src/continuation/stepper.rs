@@ -466,7 +466,7 @@ impl<'m, M: Model> Continuation<'m, M> {
     /// The component of `y` along the branch direction, in the coefficients the
     /// branch adds.
     fn branch_component(b: &Branch, y: &[f64]) -> f64 {
-        b.v.iter().zip(&b.mask).zip(y).filter(|((_, &m), _)| m).map(|((v, _), y)| v * y).sum()
+        b.v.iter().zip(&b.mask).zip(y).filter(|&((_, &m), _)| m).map(|((v, _), y)| v * y).sum()
     }
 
     /// A switched branch back through the solutions it left (the component along its
