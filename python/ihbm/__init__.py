@@ -214,11 +214,18 @@ class Model:
         ``scheme`` is ``"bdf2"`` or ``"gl"`` (default: the command line's)."""
         return _json.loads(self._m.simulate(float(omega), _pairs(set), periods, dt, scheme))
 
-    def backbone(self, to, mode=1, output=None, harmonics=DEFAULT_HARMONICS, set=None):
+    def backbone(self, to, mode=1, output=None, harmonics=DEFAULT_HARMONICS, set=None,
+                 progress=None):
         """Nonlinear mode ``mode`` continued until max|output| = ``to``: the
-        ``backbone`` JSON as a dict."""
-        return _json.loads(self._m.backbone(float(to), int(mode), int(harmonics), _pairs(set),
-                                           output))
+        ``backbone`` JSON as a dict. Progress and Ctrl-C as for :meth:`sweep`
+        (:class:`Interrupted` carries the points traced, ``"ended": "stopped"``)."""
+        bar = _Progress(progress, f"backbone of {self.name}", "max|x|")
+        try:
+            text, stopped_by = self._m.backbone(float(to), int(mode), int(harmonics),
+                                                _pairs(set), output, bar.call)
+        finally:
+            bar.close()
+        return _finish(_json.loads(text), stopped_by)
 
     def folds(self, param, value_from, value_to, omega_from, omega_to,
               harmonics=DEFAULT_HARMONICS, boundary=None, set=None, progress=None,
@@ -243,8 +250,15 @@ class Model:
         return _json.loads(self._m.cycle(float(omega), int(harmonics), _pairs(set)))
 
     def cycles(self, param, value_from, value_to, omega, harmonics=DEFAULT_HARMONICS,
-               set=None):
+               set=None, progress=None):
         """The limit cycle near ``omega`` continued in ``param``, with the Hopf point
-        where it is born: the ``cycle --param`` JSON as a dict."""
-        return _json.loads(self._m.cycles(str(param), float(value_from), float(value_to),
-                                         float(omega), int(harmonics), _pairs(set)))
+        where it is born: the ``cycle --param`` JSON as a dict. Progress and Ctrl-C as
+        for :meth:`sweep`."""
+        bar = _Progress(progress, f"limit cycles of {self.name}", str(param))
+        try:
+            text, stopped_by = self._m.cycles(str(param), float(value_from), float(value_to),
+                                              float(omega), int(harmonics), _pairs(set),
+                                              bar.call)
+        finally:
+            bar.close()
+        return _finish(_json.loads(text), stopped_by)

@@ -98,6 +98,7 @@ class Model:
         output: Optional[str] = None,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
+        progress: _ProgressArg = None,
     ) -> _Result: ...
     def folds(
         self,
@@ -126,4 +127,5 @@ class Model:
         omega: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
+        progress: _ProgressArg = None,
     ) -> _Result: ...

@@ -64,8 +64,14 @@ class NativeModel:
         scheme: Optional[str] = None,
     ) -> str: ...
     def backbone(
-        self, to: float, mode: int, harmonics: int, set: _Pairs, output: Optional[str] = None
-    ) -> str: ...
+        self,
+        to: float,
+        mode: int,
+        harmonics: int,
+        set: _Pairs,
+        output: Optional[str] = None,
+        progress: _Progress = None,
+    ) -> Tuple[str, Optional[BaseException]]: ...
     def folds(
         self,
         param: str,
@@ -88,4 +94,5 @@ class NativeModel:
         omega: float,
         harmonics: int,
         set: _Pairs,
-    ) -> str: ...
+        progress: _Progress = None,
+    ) -> Tuple[str, Optional[BaseException]]: ...

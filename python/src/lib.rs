@@ -13,9 +13,9 @@
 
 use ihbm::backbone::FamilyOptions;
 use ihbm::bifurcation::Boundary;
-use ihbm::bifurcation::{FoldCurves, FoldEvent};
+use ihbm::bifurcation::FoldCurves;
 use ihbm::continuation::{Control, Event, Observer, Trace};
-use ihbm::engine::detach::{self, Detached, TraceCopy};
+use ihbm::engine::detach::{self, Detached, Latest, TraceCopy};
 use ihbm::engine::progress;
 use ihbm::engine::registry::{NamedModel, Registry};
 use ihbm::engine::{
@@ -29,7 +29,7 @@ use ihbm::{report, Error};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
@@ -232,6 +232,40 @@ where
         },
         Detached::Panicked(why) => Err(pyo3::exceptions::PyRuntimeError::new_err(why)),
     }
+}
+
+/// [`stoppable`] for an analysis whose observer sees the whole result so far (fold
+/// curves, a backbone, a family of limit cycles): `progress` gives the points and
+/// the value shown, and what is kept after an abandoned run is its last event's copy.
+fn watched<E, T, F>(
+    py: Python<'_>,
+    progress: Option<Py<PyAny>>,
+    analysis: F,
+    shown: fn(&T) -> (usize, f64),
+) -> PyResult<(T, Option<Py<PyAny>>)>
+where
+    E: 'static,
+    T: Clone + Send + 'static,
+    F: FnOnce(&mut dyn Observer<E, T>) -> ihbm::Result<T> + Send + 'static,
+{
+    let latest = Latest::default();
+    let published = latest.clone();
+    stoppable(
+        py,
+        progress,
+        move |watch, stop| {
+            let mut check = |_: &E, t: &T| {
+                if stop.load(Ordering::Relaxed) {
+                    return Control::Stop;
+                }
+                let (points, value) = shown(t);
+                watch.check(points, value)
+            };
+            let mut observer = published.watching(&mut check);
+            analysis(&mut observer)
+        },
+        || latest.take(),
+    )
 }
 
 /// [`stoppable`] for a curve of `model`: what is kept after an abandoned run is the
@@ -440,8 +474,10 @@ impl NativeModel {
         Ok(json_text(&report::simulate_json(&rec)))
     }
 
-    /// The backbone JSON of mode `mode`, continued until max|output| = `to`.
-    #[pyo3(signature = (to, mode, harmonics, set, output=None))]
+    /// The backbone JSON of mode `mode`, continued until max|output| = `to`, and the
+    /// exception that stopped it early, if any.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (to, mode, harmonics, set, output=None, progress=None))]
     fn backbone(
         &self,
         py: Python<'_>,
@@ -450,11 +486,15 @@ impl NativeModel {
         harmonics: usize,
         set: Vec<(String, f64)>,
         output: Option<String>,
-    ) -> PyResult<String> {
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<(String, Option<Py<PyAny>>)> {
         let m = self.configured(&set)?;
         let s = BackboneSettings { mode, output, to, harmonics };
-        let b = py.detach(|| m.backbone(&s)).map_err(py_err)?;
-        Ok(json_text(&report::backbone_json(&b)))
+        let (b, stopped_by) = watched(py, progress, move |obs| m.backbone(&s, obs), |b| {
+            let size = b.points.last().and_then(|p| p.outputs.get(b.output));
+            (b.points.len(), size.map_or(f64::NAN, |o| o.max_abs))
+        })?;
+        Ok((json_text(&report::backbone_json(&b)), stopped_by))
     }
 
     /// The folds JSON: every fold (or period-doubling / torus point, `boundary`) of the
@@ -483,33 +523,21 @@ impl NativeModel {
             None => Boundary::default(),
             Some(b) => keyword(b, "boundary")?,
         };
-        // The analysis as far as it has come, for an interruption it does not answer
-        // within the grace period.
-        let copy: Arc<Mutex<Option<FoldCurves>>> = Arc::default();
-        let published = Arc::clone(&copy);
         let param = param.to_string();
-        let (f, stopped_by) = stoppable(
+        let (f, stopped_by) = watched(
             py,
             progress,
-            move |watch, stop| {
-                let mut observe = |_: &FoldEvent, f: &FoldCurves| {
-                    if let Ok(mut c) = published.lock() {
-                        *c = Some(f.clone());
-                    }
-                    if stop.load(Ordering::Relaxed) {
-                        return Control::Stop;
-                    }
-                    let points = f.curves.iter().map(|c| c.points.len()).sum();
-                    let value =
-                        f.curves.iter().rev().find_map(|c| c.points.last()).map(|p| p.value);
-                    watch.check(points, value.unwrap_or(f64::NAN))
-                };
+            move |obs| {
                 let omega = (omega_from, omega_to);
                 let r =
                     FoldRange { param: &param, from: value_from, to: value_to, omega, boundary };
-                m.fold_curves(&r, &s, &mut observe)
+                m.fold_curves(&r, &s, obs)
             },
-            || copy.lock().ok().and_then(|mut c| c.take()),
+            |f: &FoldCurves| {
+                let points = f.curves.iter().map(|c| c.points.len()).sum();
+                let value = f.curves.iter().rev().find_map(|c| c.points.last()).map(|p| p.value);
+                (points, value.unwrap_or(f64::NAN))
+            },
         )?;
         Ok((json_text(&report::folds_json(&f)), stopped_by))
     }
@@ -528,8 +556,9 @@ impl NativeModel {
     }
 
     /// The cycles JSON: the limit cycle near `omega` continued in `param`, with its
-    /// Hopf point.
+    /// Hopf point, and the exception that stopped it early, if any.
     #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (param, value_from, value_to, omega, harmonics, set, progress=None))]
     fn cycles(
         &self,
         py: Python<'_>,
@@ -539,7 +568,8 @@ impl NativeModel {
         omega: f64,
         harmonics: usize,
         set: Vec<(String, f64)>,
-    ) -> PyResult<String> {
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<(String, Option<Py<PyAny>>)> {
         let m = self.configured(&set)?;
         let opts = FamilyOptions {
             param: param.to_string(),
@@ -549,8 +579,10 @@ impl NativeModel {
             harmonics,
             ..Default::default()
         };
-        let f = py.detach(|| m.cycles(&opts)).map_err(py_err)?;
-        Ok(json_text(&report::cycles_json(&f)))
+        let (f, stopped_by) = watched(py, progress, move |obs| m.cycles(&opts, obs), |f| {
+            (f.points.len(), f.points.last().map_or(f64::NAN, |p| p.value))
+        })?;
+        Ok((json_text(&report::cycles_json(&f)), stopped_by))
     }
 }
 

@@ -11,6 +11,7 @@ import pathlib
 import subprocess
 import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -364,3 +365,41 @@ def test_the_readmes_first_curves_run(tmp_path, monkeypatch, plt):
         exec(b, ns)
     assert (tmp_path / "quarter_car.png").stat().st_size > 10_000
     assert isinstance(ns["curve"], ihbm.Curve)
+
+
+def test_ctrl_c_stops_a_backbone_keeping_its_points_on_the_closed_form():
+    # x'' + x + x^3 = 0 with max|x| = a: Ω = π √(1 + a²) / (2 K(m)),
+    # m = a² / (2 (1 + a²)), K(m) = π / (2 agm(1, √(1 - m))).
+    def agm(a, b):
+        while abs(a - b) > 1e-15 * a:
+            a, b = (a + b) / 2, math.sqrt(a * b)
+        return a
+
+    started = threading.Event()
+
+    def progress(n, a):
+        # slow enough for the interrupt to land before the backbone is done
+        started.set()
+        time.sleep(0.5)
+
+    def press_ctrl_c():
+        started.wait(timeout=60)
+        _thread.interrupt_main()
+
+    presser = threading.Thread(target=press_ctrl_c)
+    presser.start()
+    d = ihbm.Model.builtin("duffing")
+    with pytest.raises(ihbm.Interrupted) as info:
+        d.backbone(to=50.0, harmonics=31, set={"c": 0.0, "k3": 1.0, "F": 0.0},
+                   progress=progress)
+    presser.join()
+    b = info.value.result
+    assert b["ended"] == "stopped"
+    assert 0 < len(b["points"])
+    for pt in b["points"]:
+        a = pt["outputs"]["x"]["max_abs"]
+        assert a < 50.0
+        mm = a * a / (2 * (1 + a * a))
+        k = math.pi / (2 * agm(1.0, math.sqrt(1 - mm)))
+        exact = math.pi * math.sqrt(1 + a * a) / (2 * k)
+        assert abs(pt["omega"] - exact) < 1e-9 * exact

@@ -10,9 +10,8 @@
 //! one exponent is always zero (shifting the cycle in time is no perturbation): it
 //! is left out of the verdict.
 
-use super::{trace, Backbone, BackboneEnd, BackboneOptions, Goal};
+use super::{Backbone, BackboneContinuation, BackboneEnd, BackboneOptions, Goal};
 use crate::balance::Balance;
-use crate::continuation::Control;
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::outputs::OutputEval;
@@ -96,10 +95,8 @@ pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
     let mode = best.map_or(1, |b| b.0);
     let bo =
         BackboneOptions { mode, harmonics: opts.harmonics, max_steps: 500, ..Default::default() };
-    let branch =
-        trace(model, &bo, Goal::ZeroDamping(opts.max), opts.start, &mut |_: &Backbone| {
-            Control::Continue
-        })?;
+    let branch = BackboneContinuation::start(model, &bo, Goal::ZeroDamping(opts.max), opts.start)?
+        .run(&mut ());
     let Some(last) = branch.points.last().filter(|_| branch.ended == BackboneEnd::Reached) else {
         return Err(Error::Other(format!(
             "no limit cycle near ω = {} rad/s (mode {mode}): {}",

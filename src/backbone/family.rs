@@ -20,7 +20,7 @@ use super::cycle::autonomous_stability;
 use super::epmc::Free;
 use super::{hopf, system, BackboneOptions, Goal, Tracer};
 use crate::continuation::tracer::LOCATE_ITER;
-use crate::continuation::Control;
+use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::outputs::OutputEval;
@@ -166,100 +166,283 @@ pub struct CycleFamily {
 /// near the guess, or it is the equilibrium itself. A family that ends before `to`
 /// is not an error: it says why ([`CycleFamily::ended`]) and keeps its points.
 pub fn cycles<M: Model + Clone>(model: &M, opts: &FamilyOptions) -> Result<CycleFamily> {
-    cycles_with(model, opts, &mut |_: &CycleFamily| Control::Continue)
+    cycles_with(model, opts, &mut ())
 }
 
-/// [`cycles`], calling `observer` after every accepted point (it may stop the run).
+/// [`cycles`], reporting every point to `observer`, which may stop the run (what is
+/// traced is returned, ended [`FamilyEnd::Stopped`], with the Hopf point in the
+/// range covered).
 pub fn cycles_with<M: Model + Clone>(
     model: &M,
     opts: &FamilyOptions,
-    observer: &mut dyn FnMut(&CycleFamily) -> Control,
+    observer: &mut dyn Observer<FamilyEvent, CycleFamily>,
 ) -> Result<CycleFamily> {
-    let index = model.param_index(&opts.param)?;
-    let (from, to) = (opts.from, opts.to);
-    if !(from.is_finite() && to.is_finite() && from != to) {
-        return Err(Error::InvalidValue {
-            what: format!("range of {}", opts.param),
-            value: format!("{from} to {to}"),
-            expected: "two different finite values".into(),
-        });
+    Ok(CycleContinuation::new(model, opts)?.run(observer))
+}
+
+/// What [`CycleContinuation::step`] produced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FamilyEvent {
+    /// A cycle was accepted: `points[i]` (the first is the cycle at `from`).
+    Point(usize),
+    /// Nothing more to trace: `ended` says why, and
+    /// [`finish`](CycleContinuation::finish) gives the family with its Hopf point.
+    /// Every later `step` returns `Finished` again.
+    Finished,
+}
+
+/// A family of limit cycles driven step by step, as
+/// [`Continuation`](crate::continuation::Continuation) drives a sweep:
+/// [`new`](Self::new) finds the first cycle, each [`step`](Self::step) takes one
+/// pseudo-arclength step in the parameter, and [`finish`](Self::finish) locates the
+/// Hopf point in the range covered and gives the family, ended
+/// [`FamilyEnd::Stopped`] if it was not done.
+///
+/// ```
+/// use ihbm::backbone::{CycleContinuation, FamilyEvent, FamilyOptions};
+/// use ihbm::models::VanDerPol;
+///
+/// let opts = FamilyOptions {
+///     param: "mu".into(), from: 0.5, to: -0.5, omega: 1.0, harmonics: 9,
+///     ..Default::default()
+/// };
+/// let model = VanDerPol::default();
+/// let mut run = CycleContinuation::new(&model, &opts).unwrap();
+/// // five cycles, then stop: they are kept, and the Hopf point is looked for in
+/// // the rest of the range too
+/// while let FamilyEvent::Point(i) = run.step() {
+///     if i == 4 {
+///         break;
+///     }
+/// }
+/// let f = run.finish();
+/// assert_eq!((f.points.len(), f.ended.to_string().as_str()), (5, "stopped"));
+/// assert!(f.hopf.unwrap().value.abs() < 1e-8); // the equilibrium turns at mu = 0
+/// ```
+pub struct CycleContinuation<'m, M: Model + Clone> {
+    model: &'m M,
+    opts: FamilyOptions,
+    index: usize,
+    tracer: Tracer<'m, M>,
+    /// The last accepted point and its tangent.
+    y: Vec<f64>,
+    t: Vec<f64>,
+    /// The row that fixes the parameter (landing on `to`).
+    ep: Vec<f64>,
+    /// The first cycle's size, for [`FamilyOptions::collapse`].
+    first_size: f64,
+    res: CycleFamily,
+    told: usize,
+    done: bool,
+}
+
+impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
+    /// Check the options and find the first cycle; errors as [`cycles`].
+    pub fn new(model: &'m M, opts: &FamilyOptions) -> Result<Self> {
+        let index = model.param_index(&opts.param)?;
+        let (from, to) = (opts.from, opts.to);
+        if !(from.is_finite() && to.is_finite() && from != to) {
+            return Err(Error::InvalidValue {
+                what: format!("range of {}", opts.param),
+                value: format!("{from} to {to}"),
+                expected: "two different finite values".into(),
+            });
+        }
+        // The domain is an interval: with both ends in it, so is the whole range.
+        let info = &model.params_info()[index];
+        for v in [from, to] {
+            let what = format!("end of the range of {}", opts.param);
+            crate::model::check_domain(model.name(), info, &what, v)?;
+        }
+        let mut m0 = model.clone();
+        m0.set_param_value(index, from);
+        let co = super::CycleOptions {
+            omega: opts.omega,
+            harmonics: opts.harmonics,
+            ..Default::default()
+        };
+        let first = super::cycle(&m0, &co).map_err(|e| {
+            Error::Other(format!("no limit cycle to continue at {} = {from}: {e}", opts.param))
+        })?;
+        let start = first.branch.points.last().ok_or_else(|| {
+            Error::Other(format!("no limit cycle to continue at {} = {from}", opts.param))
+        })?;
+        let (mut sys, _, _) =
+            system(model, &m0, Some((index, from)), first.mode, opts.harmonics, opts.tol)?;
+        let scale = (to - from).abs();
+        sys.free = Free::Param { index, scale };
+        let n = sys.n;
+        let q = start.amplitude;
+        let mut y: Vec<f64> = start.coeffs.iter().map(|c| c / q).collect();
+        y.extend([start.omega / sys.so, from / scale, q.ln()]);
+        let mut ep = vec![0.0; n + 3];
+        ep[n + 1] = 1.0;
+        sys.correct(&mut y, &ep, from / scale, LOCATE_ITER).map_err(|why| Stall::CycleStart {
+            parameter: opts.param.clone(),
+            value: from,
+            cause: Box::new(why),
+        })?;
+        let mut t = sys.tangent();
+        if t[n + 1] * (to - from) < 0.0 {
+            t.iter_mut().for_each(|v| *v = -*v);
+        }
+        let bo = BackboneOptions {
+            tol: opts.tol,
+            initial_step: opts.initial_step,
+            min_step: opts.min_step,
+            max_step: opts.max_step,
+            max_steps: opts.max_steps,
+            harmonics: opts.harmonics,
+            to: f64::INFINITY,
+            ..Default::default()
+        };
+        let tracer = Tracer {
+            sys,
+            eval: OutputEval::new(&m0, opts.harmonics),
+            h: opts.initial_step,
+            opts: bo,
+            goal: Goal::Amplitude(f64::INFINITY),
+            others: Vec::new(),
+            // every cycle's verdict comes from its own parameter value (`cycle_at`)
+            stability: None,
+        };
+        let res = CycleFamily {
+            model: model.name().to_string(),
+            harmonics: opts.harmonics,
+            parameter: opts.param.clone(),
+            range: (from, to),
+            param_index: index,
+            mode: first.mode,
+            output_names: m0.outputs().iter().map(|o| o.name.to_string()).collect(),
+            points: Vec::new(),
+            hopf: None,
+            ended: FamilyEnd::Stopped,
+            iterations: 0,
+            steps: 0,
+        };
+        let mut run = CycleContinuation {
+            model,
+            opts: opts.clone(),
+            index,
+            tracer,
+            y,
+            t,
+            ep,
+            first_size: f64::NAN,
+            res,
+            told: 0,
+            done: false,
+        };
+        let first = run.cycle_at(&run.y.clone());
+        run.first_size = size(&first);
+        run.res.points.push(first);
+        run.res.iterations = run.tracer.sys.iterations;
+        Ok(run)
     }
-    // The domain is an interval: with both ends in it, so is the whole range.
-    let info = &model.params_info()[index];
-    for v in [from, to] {
-        let what = format!("end of the range of {}", opts.param);
-        crate::model::check_domain(model.name(), info, &what, v)?;
+
+    /// Everything traced so far (the Hopf point is located by
+    /// [`finish`](Self::finish)).
+    pub fn traced(&self) -> &CycleFamily {
+        &self.res
     }
-    let mut m0 = model.clone();
-    m0.set_param_value(index, from);
-    let co =
-        super::CycleOptions { omega: opts.omega, harmonics: opts.harmonics, ..Default::default() };
-    let first = super::cycle(&m0, &co).map_err(|e| {
-        Error::Other(format!("no limit cycle to continue at {} = {from}: {e}", opts.param))
-    })?;
-    let start = first.branch.points.last().ok_or_else(|| {
-        Error::Other(format!("no limit cycle to continue at {} = {from}", opts.param))
-    })?;
-    let (mut sys, _, _) = system(&m0, first.mode, opts.harmonics, opts.tol)?;
-    let scale = (to - from).abs();
-    sys.free = Free::Param { index, scale };
-    let n = sys.n;
-    let q = start.amplitude;
-    let mut y: Vec<f64> = start.coeffs.iter().map(|c| c / q).collect();
-    y.extend([start.omega / sys.so, from / scale, q.ln()]);
-    let mut ep = vec![0.0; n + 3];
-    ep[n + 1] = 1.0;
-    sys.correct(&mut y, &ep, from / scale, LOCATE_ITER).map_err(|why| Stall::CycleStart {
-        parameter: opts.param.clone(),
-        value: from,
-        cause: Box::new(why),
-    })?;
-    let mut t = sys.tangent();
-    let dir = (to - from).signum();
-    if t[n + 1] * dir < 0.0 {
-        t.iter_mut().for_each(|v| *v = -*v);
+
+    /// Report the last accepted cycle, or take the next step.
+    pub fn step(&mut self) -> FamilyEvent {
+        loop {
+            if self.told < self.res.points.len() {
+                self.told += 1;
+                return FamilyEvent::Point(self.told - 1);
+            }
+            if self.done {
+                return FamilyEvent::Finished;
+            }
+            if let Some(end) = self.advance() {
+                self.res.ended = end;
+                self.done = true;
+            }
+            self.res.iterations = self.tracer.sys.iterations;
+        }
     }
-    let bo = BackboneOptions {
-        tol: opts.tol,
-        initial_step: opts.initial_step,
-        min_step: opts.min_step,
-        max_step: opts.max_step,
-        max_steps: opts.max_steps,
-        harmonics: opts.harmonics,
-        to: f64::INFINITY,
-        ..Default::default()
-    };
-    let eval = OutputEval::new(&m0, opts.harmonics);
-    let mut tracer = Tracer {
-        sys,
-        eval,
-        h: opts.initial_step,
-        opts: bo,
-        goal: Goal::Amplitude(f64::INFINITY),
-        others: Vec::new(),
-        // every cycle's verdict comes from its own parameter value, below
-        stability: None,
-    };
-    let mut fam = CycleFamily {
-        model: model.name().to_string(),
-        harmonics: opts.harmonics,
-        parameter: opts.param.clone(),
-        range: (from, to),
-        param_index: index,
-        mode: first.mode,
-        output_names: m0.outputs().iter().map(|o| o.name.to_string()).collect(),
-        points: Vec::new(),
-        hopf: None,
-        ended: FamilyEnd::Stopped,
-        iterations: 0,
-        steps: 0,
-    };
-    let at = |tracer: &mut Tracer<'_, M>, y: &[f64]| {
-        let p = tracer.point(y);
-        let value = tracer.sys.param(y);
-        let mut mp = model.clone();
-        mp.set_param_value(index, value);
-        let stability = match autonomous_stability(&mp, opts.harmonics, &p.coeffs, p.omega) {
+
+    /// Step until the family is done or `observer` stops it; the family.
+    pub fn run(mut self, observer: &mut dyn Observer<FamilyEvent, CycleFamily>) -> CycleFamily {
+        loop {
+            let e = self.step();
+            if e == FamilyEvent::Finished || observer.observe(&e, &self.res) == Control::Stop {
+                return self.finish();
+            }
+        }
+    }
+
+    /// The family traced, ended [`FamilyEnd::Stopped`] unless it was done, with the
+    /// Hopf point in the range it covers (to the end of the range when it ended
+    /// before).
+    pub fn finish(mut self) -> CycleFamily {
+        if !self.done {
+            self.res.ended = FamilyEnd::Stopped;
+        }
+        let f = &mut self.res;
+        let mut values: Vec<f64> = f.points.iter().map(|p| p.value).collect();
+        if f.ended != FamilyEnd::Reached {
+            values.push(f.range.1);
+        }
+        f.hopf = hopf::locate(self.model, self.index, f.mode, &values);
+        self.res
+    }
+
+    /// One pseudo-arclength step: the cycle accepted (pushed), or the family's end.
+    fn advance(&mut self) -> Option<FamilyEnd> {
+        let (to, max_steps) = (self.opts.to, self.opts.max_steps);
+        if self.res.points.len() >= max_steps {
+            return Some(FamilyEnd::Stalled(Stall::StepLimit { steps: max_steps }));
+        }
+        let step = match self.tracer.advance(&self.y, &self.t) {
+            Ok(x) => x,
+            Err(why) => return Some(FamilyEnd::Stalled(why)),
+        };
+        let z = &step.point;
+        let dir = (to - self.opts.from).signum();
+        if (self.tracer.sys.param(z) - to) * dir >= 0.0 {
+            // land on P = to between y and z
+            let (pa, pb) = (self.tracer.sys.param(&self.y), self.tracer.sys.param(z));
+            let f = (to - pa) / (pb - pa);
+            let mut w: Vec<f64> = self.y.iter().zip(z).map(|(a, b)| a + f * (b - a)).collect();
+            let scale = (to - self.opts.from).abs();
+            return Some(
+                match self.tracer.sys.correct(&mut w, &self.ep, to / scale, LOCATE_ITER) {
+                    Ok(_) => {
+                        let p = self.cycle_at(&w);
+                        self.res.points.push(p);
+                        self.res.steps += 1;
+                        FamilyEnd::Reached
+                    }
+                    Err(why) => FamilyEnd::Stalled(Stall::LandParameter {
+                        parameter: self.opts.param.clone(),
+                        value: to,
+                        cause: Box::new(why),
+                    }),
+                },
+            );
+        }
+        let p = self.cycle_at(z);
+        let collapsed = size(&p) < self.opts.collapse * self.first_size;
+        self.res.points.push(p);
+        self.res.steps += 1;
+        if collapsed {
+            return Some(FamilyEnd::Collapsed);
+        }
+        self.tracer.adapt(&step);
+        (self.y, self.t) = (step.point, step.tangent);
+        None
+    }
+
+    /// The cycle at `y`, with its verdict at its own parameter value.
+    fn cycle_at(&mut self, y: &[f64]) -> CyclePoint {
+        let p = self.tracer.point(y);
+        let value = self.tracer.sys.param(y);
+        let mut mp = self.model.clone();
+        mp.set_param_value(self.index, value);
+        let stability = match autonomous_stability(&mp, self.opts.harmonics, &p.coeffs, p.omega) {
             Ok((s, _)) => s,
             Err(e) => Stability::Unknown(Unknown::Failed(e.to_string())),
         };
@@ -272,61 +455,10 @@ pub fn cycles_with<M: Model + Clone>(
             outputs: p.outputs,
             stability,
         }
-    };
-    fam.points.push(at(&mut tracer, &y));
-    let size = |p: &CyclePoint| p.outputs.first().map_or(p.amplitude, |o| o.max_abs);
-    let first_size = size(&fam.points[0]);
-    fam.ended = if observer(&fam) == Control::Stop {
-        FamilyEnd::Stopped
-    } else {
-        loop {
-            if fam.points.len() >= opts.max_steps {
-                break FamilyEnd::Stalled(Stall::StepLimit { steps: opts.max_steps });
-            }
-            let step = match tracer.advance(&y, &t) {
-                Ok(x) => x,
-                Err(why) => break FamilyEnd::Stalled(why),
-            };
-            let z = &step.point;
-            if (tracer.sys.param(z) - to) * dir >= 0.0 {
-                // land on P = to between y and z
-                let (pa, pb) = (tracer.sys.param(&y), tracer.sys.param(z));
-                let f = (to - pa) / (pb - pa);
-                let mut w: Vec<f64> = y.iter().zip(z).map(|(a, b)| a + f * (b - a)).collect();
-                break match tracer.sys.correct(&mut w, &ep, to / scale, LOCATE_ITER) {
-                    Ok(_) => {
-                        fam.points.push(at(&mut tracer, &w));
-                        fam.steps += 1;
-                        FamilyEnd::Reached
-                    }
-                    Err(why) => FamilyEnd::Stalled(Stall::LandParameter {
-                        parameter: opts.param.clone(),
-                        value: to,
-                        cause: Box::new(why),
-                    }),
-                };
-            }
-            let p = at(&mut tracer, z);
-            let collapsed = size(&p) < opts.collapse * first_size;
-            fam.points.push(p);
-            fam.steps += 1;
-            if collapsed {
-                break FamilyEnd::Collapsed;
-            }
-            tracer.adapt(&step);
-            (y, t) = (step.point, step.tangent);
-            if observer(&fam) == Control::Stop {
-                break FamilyEnd::Stopped;
-            }
-        }
-    };
-    fam.iterations = tracer.sys.iterations;
-    // the values of P the family covered, in order, and the rest of the range when
-    // it ended before
-    let mut values: Vec<f64> = fam.points.iter().map(|p| p.value).collect();
-    if fam.ended != FamilyEnd::Reached {
-        values.push(to);
     }
-    fam.hopf = hopf::locate(model, index, first.mode, &values);
-    Ok(fam)
+}
+
+/// A cycle's size: the first output's `max |x(t)|` (the modal amplitude without one).
+fn size(p: &CyclePoint) -> f64 {
+    p.outputs.first().map_or(p.amplitude, |o| o.max_abs)
 }

@@ -41,7 +41,7 @@ mod stability;
 
 use crate::balance::Balance;
 use crate::continuation::tracer::{dot, LOCATE_ITER};
-use crate::continuation::{Control, StepSize};
+use crate::continuation::{Control, Observer, StepSize};
 use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
 use crate::model::Model;
@@ -49,7 +49,10 @@ use crate::outputs::OutputEval;
 use crate::results::{PointOutput, Stability, Stall, Unknown};
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
-pub use family::{cycles, cycles_with, CycleFamily, CyclePoint, FamilyEnd, FamilyOptions, Hopf};
+pub use family::{
+    cycles, cycles_with, CycleContinuation, CycleFamily, CyclePoint, FamilyEnd, FamilyEvent,
+    FamilyOptions, Hopf,
+};
 
 /// Where a trace stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -237,40 +240,244 @@ pub struct Backbone {
 /// the start does not converge. A backbone that cannot reach the amplitude (it turns
 /// back or runs away) ends [`BackboneEnd::Stalled`] with what was traced.
 pub fn backbone<M: Model>(model: &M, opts: &BackboneOptions) -> Result<Backbone> {
-    backbone_with(model, opts, &mut |_: &Backbone| Control::Continue)
+    backbone_with(model, opts, &mut ())
 }
 
-/// [`backbone`], calling `observer` after every accepted point (it may stop the run).
+/// [`backbone`], reporting every event to `observer`, which may stop the run (what is
+/// traced is returned, ended [`BackboneEnd::Stopped`]).
 pub fn backbone_with<M: Model>(
     model: &M,
     opts: &BackboneOptions,
-    observer: &mut dyn FnMut(&Backbone) -> Control,
+    observer: &mut dyn Observer<BackboneEvent, Backbone>,
 ) -> Result<Backbone> {
-    if !(opts.to > 0.0 && opts.to.is_finite()) {
-        return Err(Error::InvalidValue {
-            what: "backbone amplitude".into(),
-            value: opts.to.to_string(),
-            expected: "a positive, finite max |x(t)| to reach".into(),
-        });
-    }
-    trace(model, opts, Goal::Amplitude(opts.to), opts.start * opts.to, observer)
+    Ok(BackboneContinuation::new(model, opts)?.run(observer))
 }
 
-/// The EPMC system of mode `mode` (1-based) of `model`, scaled at rest: its linear
-/// mode and the mass matrix (row-major). The phase fixes the sine of harmonic 1 of
-/// the mode's largest DOF, so two systems of the same model and mode share it.
-fn system<M: Model>(
-    model: &M,
+/// What [`BackboneContinuation::step`] produced. Indices point into the
+/// [`Backbone`] traced so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BackboneEvent {
+    /// A point was accepted: `points[i]` (the first is the start).
+    Point(usize),
+    /// A turn in amplitude or an internal resonance: `events[i]` (reported before
+    /// the point after it).
+    Event(usize),
+    /// Nothing more to trace: `ended` says why, and
+    /// [`finish`](BackboneContinuation::finish) gives the backbone. Every later `step`
+    /// returns `Finished` again.
+    Finished,
+}
+
+/// A backbone driven step by step, as [`Continuation`](crate::continuation::Continuation)
+/// drives a sweep: [`new`](Self::new) converges the start, each
+/// [`step`](Self::step) takes one pseudo-arclength step (or reports what the last
+/// one found), and [`finish`](Self::finish) gives what is traced, ended
+/// [`BackboneEnd::Stopped`] if the backbone was not done.
+///
+/// ```
+/// use ihbm::backbone::{BackboneContinuation, BackboneEvent, BackboneOptions};
+/// use ihbm::models::Duffing;
+///
+/// let mut model = Duffing::default();
+/// model.c = 0.0;
+/// let opts = BackboneOptions { to: 1.0, harmonics: 5, ..Default::default() };
+/// let mut run = BackboneContinuation::new(&model, &opts).unwrap();
+/// // stop once the frequency has grown by 10 %: the points so far are kept
+/// while let BackboneEvent::Point(i) | BackboneEvent::Event(i) = run.step() {
+///     if run.traced().points.last().is_some_and(|p| p.omega > 1.1) {
+///         break;
+///     }
+/// }
+/// let b = run.finish();
+/// assert_eq!(b.ended.to_string(), "stopped");
+/// assert!(b.points.last().unwrap().omega > 1.1);
+/// ```
+pub struct BackboneContinuation<'m, M: Model> {
+    tracer: Tracer<'m, M>,
+    /// The last accepted point and its tangent.
+    y: Vec<f64>,
+    t: Vec<f64>,
+    res: Backbone,
+    /// Points and events reported so far.
+    told: (usize, usize),
+    done: bool,
+}
+
+impl<'m, M: Model> BackboneContinuation<'m, M> {
+    /// Check the options and converge the start (the linear mode at
+    /// [`BackboneOptions::start`] of the amplitude); errors as [`backbone`].
+    pub fn new(model: &'m M, opts: &BackboneOptions) -> Result<Self> {
+        if !(opts.to > 0.0 && opts.to.is_finite()) {
+            return Err(Error::InvalidValue {
+                what: "backbone amplitude".into(),
+                value: opts.to.to_string(),
+                expected: "a positive, finite max |x(t)| to reach".into(),
+            });
+        }
+        Self::start(model, opts, Goal::Amplitude(opts.to), opts.start * opts.to)
+    }
+
+    /// Continue mode `opts.mode` from the output amplitude `start` until `goal`.
+    fn start(model: &'m M, opts: &BackboneOptions, goal: Goal, start: f64) -> Result<Self> {
+        model.validate()?;
+        let outputs = model.outputs();
+        if opts.output >= outputs.len() {
+            return Err(Error::InvalidValue {
+                what: "output index".into(),
+                value: opts.output.to_string(),
+                expected: format!("one of the model's {} outputs", outputs.len()),
+            });
+        }
+        let (mut sys, lm, mass) = system(model, model, None, opts.mode, opts.harmonics, opts.tol)?;
+        let n = sys.n;
+        let nh = opts.harmonics;
+        let len = 2 * nh + 1;
+        let ndof = model.dofs().len();
+        // the start: the linear mode, mass-normalised, at a small amplitude
+        let mnorm: f64 = (0..ndof)
+            .flat_map(|i| (0..ndof).map(move |j| (i, j)))
+            .map(|(i, j)| lm.shape[i] * mass[i * ndof + j] * lm.shape[j])
+            .sum();
+        if !(mnorm > 0.0 && mnorm.is_finite()) {
+            return Err(Error::InvalidValue {
+                what: format!("mode {}", opts.mode),
+                value: format!("modal mass {mnorm:e}"),
+                expected: "a positive modal mass".into(),
+            });
+        }
+        let shape: Vec<f64> = lm.shape.iter().map(|v| v / mnorm.sqrt()).collect();
+        let out_amp =
+            outputs[opts.output].terms.iter().map(|&(d, c)| c * shape[d]).sum::<f64>().abs();
+        let scale = if out_amp > 1e-12 * shape.iter().fold(0.0f64, |m, v| m.max(v.abs())) {
+            out_amp
+        } else {
+            shape.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+        };
+        let q0 = start / scale;
+        let mut y = vec![0.0; n + 3];
+        for d in 0..ndof {
+            y[d * len + 1] = shape[d];
+        }
+        y[n] = 1.0;
+        y[n + 1] = lm.xi / sys.so;
+        y[n + 2] = q0.ln();
+        let mut res = Backbone {
+            model: model.name().to_string(),
+            harmonics: nh,
+            mode: opts.mode,
+            output_names: outputs.iter().map(|o| o.name.to_string()).collect(),
+            output: opts.output,
+            to: opts.to,
+            linear: (f64::NAN, f64::NAN),
+            points: Vec::new(),
+            events: Vec::new(),
+            ended: BackboneEnd::Stopped,
+            iterations: 0,
+            steps: 0,
+        };
+        let mut eu = vec![0.0; n + 3];
+        eu[n + 2] = 1.0;
+        let u0 = y[n + 2];
+        sys.correct(&mut y, &eu, u0, opts.max_iter.max(LOCATE_ITER)).map_err(|why| {
+            Stall::ModeStart { mode: opts.mode, omega: lm.omega, cause: Box::new(why) }
+        })?;
+        let eval = OutputEval::new(model, nh);
+        let mut t = sys.tangent();
+        if t[n + 2] < 0.0 {
+            t.iter_mut().for_each(|v| *v = -*v);
+        }
+        let others = (1..=ndof)
+            .filter(|&k| k != opts.mode)
+            .filter_map(|k| linear_mode(model, k).ok().map(|m| (k, m.omega)))
+            .collect();
+        let stability = stability::ModeStability::new(model, nh)?;
+        let mut tracer = Tracer {
+            sys,
+            eval,
+            h: opts.initial_step,
+            opts: opts.clone(),
+            goal,
+            others,
+            stability: Some(stability),
+        };
+        let start = tracer.point(&y);
+        res.linear = (start.omega, start.damping);
+        res.points.push(start);
+        res.iterations = tracer.sys.iterations;
+        Ok(BackboneContinuation { tracer, y, t, res, told: (0, 0), done: false })
+    }
+
+    /// Everything traced so far.
+    pub fn traced(&self) -> &Backbone {
+        &self.res
+    }
+
+    /// Report what the last step found, or take the next step.
+    pub fn step(&mut self) -> BackboneEvent {
+        loop {
+            if self.told.1 < self.res.events.len() {
+                self.told.1 += 1;
+                return BackboneEvent::Event(self.told.1 - 1);
+            }
+            if self.told.0 < self.res.points.len() {
+                self.told.0 += 1;
+                return BackboneEvent::Point(self.told.0 - 1);
+            }
+            if self.done {
+                return BackboneEvent::Finished;
+            }
+            match self.tracer.step(&mut self.y, &mut self.t, &mut self.res) {
+                Some(end) => {
+                    self.res.ended = end;
+                    self.done = true;
+                }
+                None => self.res.steps += 1,
+            }
+            self.res.iterations = self.tracer.sys.iterations;
+        }
+    }
+
+    /// Step until the backbone is done or `observer` stops it; the backbone.
+    pub fn run(mut self, observer: &mut dyn Observer<BackboneEvent, Backbone>) -> Backbone {
+        loop {
+            let e = self.step();
+            if e == BackboneEvent::Finished || observer.observe(&e, &self.res) == Control::Stop {
+                return self.finish();
+            }
+        }
+    }
+
+    /// What is traced: ended [`BackboneEnd::Stopped`] unless the backbone was done.
+    pub fn finish(mut self) -> Backbone {
+        if !self.done {
+            self.res.ended = BackboneEnd::Stopped;
+        }
+        self.res
+    }
+}
+
+/// The EPMC system of mode `mode` (1-based), scaled at rest: its linear mode and the
+/// mass matrix (row-major). `rest` is the model linearised (`model` itself, or a copy
+/// at the first value of the parameter `param` a family frees, which the balance of
+/// `model` takes too). The phase fixes the sine of harmonic 1 of the mode's largest
+/// DOF, so two systems of the same model and mode share it.
+fn system<'m, M: Model>(
+    model: &'m M,
+    rest: &M,
+    param: Option<(usize, f64)>,
     mode: usize,
     harmonics: usize,
     tol: f64,
-) -> Result<(Epmc<'_, M>, crate::linearisation::LinearMode, Vec<f64>)> {
-    let lm = linear_mode(model, mode)?;
-    let bal = Balance::new(model, harmonics)?;
+) -> Result<(Epmc<'m, M>, crate::linearisation::LinearMode, Vec<f64>)> {
+    let lm = linear_mode(rest, mode)?;
+    let mut bal = Balance::new(model, harmonics)?;
+    if let Some((index, value)) = param {
+        bal.set_param(index, value);
+    }
     let n = bal.len();
     let len = 2 * harmonics + 1;
     let ndof = model.dofs().len();
-    let mass = Linearisation::at_rest(model, lm.omega).mass();
+    let mass = Linearisation::at_rest(rest, lm.omega).mass();
     // the reference DOF: the mode's largest entry (its sine of harmonic 1 is fixed)
     let dref =
         (0..ndof).max_by(|&i, &j| lm.shape[i].abs().total_cmp(&lm.shape[j].abs())).unwrap_or(0);
@@ -286,116 +493,6 @@ fn system<M: Model>(
         sys.sr = 1.0;
     }
     Ok((sys, lm, mass))
-}
-
-/// Continue mode `opts.mode` from the output amplitude `start` until `goal`.
-fn trace<M: Model>(
-    model: &M,
-    opts: &BackboneOptions,
-    goal: Goal,
-    start: f64,
-    observer: &mut dyn FnMut(&Backbone) -> Control,
-) -> Result<Backbone> {
-    model.validate()?;
-    let outputs = model.outputs();
-    if opts.output >= outputs.len() {
-        return Err(Error::InvalidValue {
-            what: "output index".into(),
-            value: opts.output.to_string(),
-            expected: format!("one of the model's {} outputs", outputs.len()),
-        });
-    }
-    let (mut sys, lm, mass) = system(model, opts.mode, opts.harmonics, opts.tol)?;
-    let n = sys.n;
-    let nh = opts.harmonics;
-    let len = 2 * nh + 1;
-    let ndof = model.dofs().len();
-    // the start: the linear mode, mass-normalised, at a small amplitude
-    let mnorm: f64 = (0..ndof)
-        .flat_map(|i| (0..ndof).map(move |j| (i, j)))
-        .map(|(i, j)| lm.shape[i] * mass[i * ndof + j] * lm.shape[j])
-        .sum();
-    if !(mnorm > 0.0 && mnorm.is_finite()) {
-        return Err(Error::InvalidValue {
-            what: format!("mode {}", opts.mode),
-            value: format!("modal mass {mnorm:e}"),
-            expected: "a positive modal mass".into(),
-        });
-    }
-    let shape: Vec<f64> = lm.shape.iter().map(|v| v / mnorm.sqrt()).collect();
-    let out_amp = outputs[opts.output].terms.iter().map(|&(d, c)| c * shape[d]).sum::<f64>().abs();
-    let scale = if out_amp > 1e-12 * shape.iter().fold(0.0f64, |m, v| m.max(v.abs())) {
-        out_amp
-    } else {
-        shape.iter().fold(0.0f64, |m, v| m.max(v.abs()))
-    };
-    let q0 = start / scale;
-    let mut y = vec![0.0; n + 3];
-    for d in 0..ndof {
-        y[d * len + 1] = shape[d];
-    }
-    y[n] = 1.0;
-    y[n + 1] = lm.xi / sys.so;
-    y[n + 2] = q0.ln();
-    let mut res = Backbone {
-        model: model.name().to_string(),
-        harmonics: nh,
-        mode: opts.mode,
-        output_names: outputs.iter().map(|o| o.name.to_string()).collect(),
-        output: opts.output,
-        to: opts.to,
-        linear: (f64::NAN, f64::NAN),
-        points: Vec::new(),
-        events: Vec::new(),
-        ended: BackboneEnd::Stopped,
-        iterations: 0,
-        steps: 0,
-    };
-    let mut eu = vec![0.0; n + 3];
-    eu[n + 2] = 1.0;
-    let u0 = y[n + 2];
-    sys.correct(&mut y, &eu, u0, opts.max_iter.max(LOCATE_ITER)).map_err(|why| {
-        Stall::ModeStart { mode: opts.mode, omega: lm.omega, cause: Box::new(why) }
-    })?;
-    let eval = OutputEval::new(model, nh);
-    let mut t = sys.tangent();
-    if t[n + 2] < 0.0 {
-        t.iter_mut().for_each(|v| *v = -*v);
-    }
-    let others = (1..=ndof)
-        .filter(|&k| k != opts.mode)
-        .filter_map(|k| linear_mode(model, k).ok().map(|m| (k, m.omega)))
-        .collect();
-    let stability = stability::ModeStability::new(model, nh)?;
-    let mut tracer = Tracer {
-        sys,
-        eval,
-        h: opts.initial_step,
-        opts: opts.clone(),
-        goal,
-        others,
-        stability: Some(stability),
-    };
-    let start = tracer.point(&y);
-    res.linear = (start.omega, start.damping);
-    res.points.push(start);
-    if observer(&res) == Control::Stop {
-        res.iterations = tracer.sys.iterations;
-        return Ok(res);
-    }
-    res.ended = loop {
-        match tracer.step(&mut y, &mut t, &mut res) {
-            Some(end) => break end,
-            None => {
-                res.steps += 1;
-                if observer(&res) == Control::Stop {
-                    break BackboneEnd::Stopped;
-                }
-            }
-        }
-    };
-    res.iterations = tracer.sys.iterations;
-    Ok(res)
 }
 
 /// One accepted pseudo-arclength step of a [`Tracer`].

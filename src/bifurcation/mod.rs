@@ -36,7 +36,7 @@ mod torus;
 pub use period_two::{break_symmetry, embed, period_two, PeriodDoubled, SymmetryBroken};
 
 use crate::balance::Balance;
-use crate::continuation::{sweep, Control, SweepOptions};
+use crate::continuation::{sweep, Control, Observer, SweepOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::results::{PointOutput, Stall};
@@ -324,9 +324,7 @@ pub fn fold_curves<M: Model + Clone>(
     to: f64,
     opts: &FoldCurveOptions,
 ) -> Result<FoldCurves> {
-    fold_curves_with(model, param, from, to, opts, &mut |_: &FoldEvent, _: &FoldCurves| {
-        Control::Continue
-    })
+    fold_curves_with(model, param, from, to, opts, &mut ())
 }
 
 /// [`fold_curves`], reporting every event to `observer`, which may stop the run
@@ -337,12 +335,12 @@ pub fn fold_curves_with<M: Model + Clone>(
     from: f64,
     to: f64,
     opts: &FoldCurveOptions,
-    observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
+    observer: &mut dyn Observer<FoldEvent, FoldCurves>,
 ) -> Result<FoldCurves> {
     let mut run = FoldContinuation::new(model, param, from, to, opts)?;
     loop {
         let e = run.step()?;
-        if e == FoldEvent::Finished || observer(&e, run.traced()) == Control::Stop {
+        if e == FoldEvent::Finished || observer.observe(&e, run.traced()) == Control::Stop {
             return Ok(run.finish());
         }
     }

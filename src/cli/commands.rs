@@ -2,10 +2,12 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
-use crate::backbone::{Backbone, BackboneEnd, CycleFamily, FamilyEnd, FamilyOptions};
+use crate::backbone::{
+    Backbone, BackboneEnd, BackboneEvent, CycleFamily, FamilyEnd, FamilyEvent, FamilyOptions,
+};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::{Control, Observer};
-use crate::engine::detach::{self, Detached, TraceCopy};
+use crate::engine::detach::{self, Detached, Latest, TraceCopy};
 use crate::engine::progress;
 use crate::engine::registry::{NamedModel, Registry};
 use crate::engine::{BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings};
@@ -16,7 +18,7 @@ use crate::study;
 use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
@@ -153,38 +155,22 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             ));
             let settings = args.cont.settings(args.harmonics);
             let stop = interrupt_flag();
-            // The analysis as far as it has come, for an interruption it does not
-            // answer within the grace period (a fold point of a large problem is slow).
-            let copy: Arc<Mutex<Option<FoldCurves>>> = Arc::default();
-            let work = {
-                let (copy, stop, pb, name) = (copy.clone(), stop.clone(), pb.clone(), name.clone());
-                move || {
+            let label = name.clone();
+            let mut res = watched(
+                &stop,
+                &pb,
+                move |e: &FoldEvent, f: &FoldCurves| progress::fold_message(&label, e, f),
+                move |obs| {
                     let omega = (omega_from, omega_to);
                     let range = FoldRange { param: &param, from, to, omega, boundary };
-                    let mut watch = |e: &FoldEvent, f: &FoldCurves| {
-                        if let Ok(mut c) = copy.lock() {
-                            *c = Some(f.clone());
-                        }
-                        if stop.load(Ordering::Relaxed) {
-                            return Control::Stop;
-                        }
-                        pb.set_message(progress::fold_message(&name, e, f));
-                        Control::Continue
-                    };
-                    model.fold_curves(&range, &settings, &mut watch)
-                }
-            };
-            let res = match detach::run(&stop, work) {
-                Detached::Returned(res) => res.map_err(Failure::from_error),
-                Detached::Abandoned => {
-                    copy.lock().ok().and_then(|mut c| c.take()).ok_or_else(|| Failure {
-                        code: super::EXIT_INTERRUPTED,
-                        message: "interrupted before the first fold: nothing written".into(),
-                    })
-                }
-                Detached::Panicked(why) => Err(Failure::failed(why)),
-            };
+                    model.fold_curves(&range, &settings, obs)
+                },
+                "the first fold",
+            );
             pb.finish_and_clear();
+            if let Ok(f) = &mut res {
+                f.model = name;
+            }
             let res = res?;
             write_folds(&res, &args, out)?;
             if stop.load(Ordering::Relaxed) {
@@ -206,9 +192,18 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             let model = configured(reg, &name, &set)?;
             let pb = progress::spinner(&format!("backbone of {name}, mode {mode}, to {to}"));
             let s = BackboneSettings { mode, output, to, harmonics };
-            let res = model.backbone(&s).map_err(Failure::from_error);
+            let label = name.clone();
+            let res = watched(
+                &interrupt_flag(),
+                &pb,
+                move |_: &BackboneEvent, b: &Backbone| progress::backbone_message(&label, b),
+                move |obs| model.backbone(&s, obs),
+                "the first point of the backbone",
+            );
             pb.finish_and_clear();
-            write_backbone(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
+            let mut b = res?;
+            b.model = name;
+            write_backbone(&b, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
         }
         Command::Cycle { name, omega, harmonics, set, param, from, to, json, csv, plot } => {
             let model = configured(reg, &name, &set)?;
@@ -219,9 +214,18 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 ));
                 let opts =
                     FamilyOptions { param, from, to, omega, harmonics, ..Default::default() };
-                let res = model.cycles(&opts).map_err(Failure::from_error);
+                let label = name.clone();
+                let res = watched(
+                    &interrupt_flag(),
+                    &pb,
+                    move |_: &FamilyEvent, f: &CycleFamily| progress::family_message(&label, f),
+                    move |obs| model.cycles(&opts, obs),
+                    "the first limit cycle",
+                );
                 pb.finish_and_clear();
-                return write_cycles(&res?, csv.as_deref(), json.as_deref(), plot.as_deref(), out);
+                let mut f = res?;
+                f.model = name;
+                return write_cycles(&f, csv.as_deref(), json.as_deref(), plot.as_deref(), out);
             }
             let pb = progress::spinner(&format!("limit cycle of {name} near ω = {omega}"));
             let res = model.cycle(omega, harmonics).map_err(Failure::from_error);
@@ -362,6 +366,7 @@ fn write_backbone(
     }
     match &b.ended {
         BackboneEnd::Reached => Ok(()),
+        BackboneEnd::Stopped => Err(stopped(b.points.len())),
         end => Err(Failure::failed(format!(
             "the backbone did not reach max |{name}| = {} ({end}); the {} points traced are written",
             b.to,
@@ -413,6 +418,7 @@ fn write_cycles(
         }
     }
     match &f.ended {
+        FamilyEnd::Stopped => Err(stopped(f.points.len())),
         FamilyEnd::Stalled(why) => Err(Failure::failed(format!(
             "the limit cycles did not reach {} = {} ({why}); the {} points traced are written",
             f.parameter,
@@ -778,6 +784,54 @@ fn interrupted(stop: &std::sync::atomic::AtomicBool, curve: &Curve) -> Result<()
             curve.points.len()
         ),
     })
+}
+
+/// A backbone or family that a signal stopped, its `points` written.
+fn stopped(points: usize) -> Failure {
+    Failure {
+        code: super::EXIT_INTERRUPTED,
+        message: format!("interrupted: the {points} point(s) traced so far are written"),
+    }
+}
+
+/// Run an analysis on a thread of its own ([`detach`]), its progress shown by
+/// `message`, stopped by `stop`: its result, or, when the stop is not answered
+/// within [`detach::GRACE`], what it had traced at its last event (`first`: what a
+/// stop before any event missed).
+fn watched<E, T, F>(
+    stop: &Arc<AtomicBool>,
+    pb: &indicatif::ProgressBar,
+    message: impl Fn(&E, &T) -> String + Send + 'static,
+    analysis: F,
+    first: &str,
+) -> Result<T, Failure>
+where
+    E: 'static,
+    T: Clone + Send + 'static,
+    F: FnOnce(&mut dyn Observer<E, T>) -> crate::Result<T> + Send + 'static,
+{
+    let latest = Latest::default();
+    let work = {
+        let (latest, stop, pb) = (latest.clone(), Arc::clone(stop), pb.clone());
+        move || {
+            let mut show = |e: &E, t: &T| {
+                if stop.load(Ordering::Relaxed) {
+                    return Control::Stop;
+                }
+                pb.set_message(message(e, t));
+                Control::Continue
+            };
+            analysis(&mut latest.watching(&mut show))
+        }
+    };
+    match detach::run(stop, work) {
+        Detached::Returned(res) => res.map_err(Failure::from_error),
+        Detached::Abandoned => latest.take().ok_or_else(|| Failure {
+            code: super::EXIT_INTERRUPTED,
+            message: format!("interrupted before {first}: nothing written"),
+        }),
+        Detached::Panicked(why) => Err(Failure::failed(why)),
+    }
 }
 
 /// Trace a curve on a thread of its own ([`detach`]), stopped by `stop`: the curve,

@@ -31,23 +31,29 @@ pub enum Control {
     Stop,
 }
 
-/// Watches a run: called with every event and the trace so far.
+/// Watches a run: called with every event and what is traced so far, and may stop it.
 ///
-/// Closures `FnMut(&Event, &Trace) -> Control` are observers, and so is `()` (it
-/// never stops).
-pub trait Observer {
-    /// See one event; `trace` holds everything traced so far.
-    fn observe(&mut self, event: &Event, trace: &Trace) -> Control;
+/// One trait for every path: a frequency or parameter sweep (the defaults, [`Event`]
+/// and [`Trace`]), fold curves ([`FoldEvent`](crate::bifurcation::FoldEvent),
+/// [`FoldCurves`](crate::bifurcation::FoldCurves)), a backbone
+/// ([`BackboneEvent`](crate::backbone::BackboneEvent),
+/// [`Backbone`](crate::backbone::Backbone)) and a family of limit cycles
+/// ([`FamilyEvent`](crate::backbone::FamilyEvent),
+/// [`CycleFamily`](crate::backbone::CycleFamily)). Closures
+/// `FnMut(&E, &T) -> Control` are observers, and so is `()` (it never stops).
+pub trait Observer<E = Event, T: ?Sized = Trace> {
+    /// See one event; `traced` holds everything traced so far.
+    fn observe(&mut self, event: &E, traced: &T) -> Control;
 }
 
-impl<F: FnMut(&Event, &Trace) -> Control> Observer for F {
-    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
-        self(event, trace)
+impl<E, T: ?Sized, F: FnMut(&E, &T) -> Control> Observer<E, T> for F {
+    fn observe(&mut self, event: &E, traced: &T) -> Control {
+        self(event, traced)
     }
 }
 
-impl Observer for () {
-    fn observe(&mut self, _: &Event, _: &Trace) -> Control {
+impl<E, T: ?Sized> Observer<E, T> for () {
+    fn observe(&mut self, _: &E, _: &T) -> Control {
         Control::Continue
     }
 }

@@ -128,6 +128,49 @@ impl<O: Observer> Observer for Watching<'_, O> {
     }
 }
 
+/// What an analysis published last (fold curves, a backbone, a family of cycles),
+/// for the thread that may have to go on without it: the whole of it, cloned at
+/// every event by [`Latest::watching`] (these analyses take milliseconds or more per
+/// point, and a clone of their points takes microseconds).
+pub struct Latest<T>(Arc<Mutex<Option<T>>>);
+
+impl<T> Clone for Latest<T> {
+    fn clone(&self) -> Self {
+        Latest(Arc::clone(&self.0))
+    }
+}
+
+impl<T> Default for Latest<T> {
+    fn default() -> Self {
+        Latest(Arc::default())
+    }
+}
+
+impl<T: Clone> Latest<T> {
+    /// Keep a copy of `value`.
+    pub fn publish(&self, value: &T) {
+        if let Ok(mut copy) = self.0.lock() {
+            *copy = Some(value.clone());
+        }
+    }
+
+    /// The last copy (`None` before the first event).
+    pub fn take(&self) -> Option<T> {
+        self.0.lock().ok()?.take()
+    }
+
+    /// An observer that publishes what is traced at every event, then asks `inner`.
+    pub fn watching<'a, E, O: Observer<E, T> + 'a>(
+        &'a self,
+        mut inner: O,
+    ) -> impl Observer<E, T> + 'a {
+        move |event: &E, traced: &T| {
+            self.publish(traced);
+            inner.observe(event, traced)
+        }
+    }
+}
+
 fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())

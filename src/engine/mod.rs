@@ -5,7 +5,7 @@
 //! ([`detach`]); above it, [`crate::study`]
 //! and the command line. Nothing here imports either.
 
-use crate::backbone::{Backbone, BackboneEnd, BackboneOptions};
+use crate::backbone::{Backbone, BackboneEnd, BackboneEvent, BackboneOptions};
 use crate::balance::Balance;
 use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
 use crate::continuation::{self, Observer, SweepOptions};
@@ -312,7 +312,7 @@ pub fn fold_curves<M: Model + Clone>(
     model: &M,
     r: &FoldRange,
     s: &SweepSettings,
-    observer: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> continuation::Control,
+    observer: &mut dyn continuation::Observer<FoldEvent, FoldCurves>,
 ) -> Result<FoldCurves> {
     let FoldRange { param, from, to, omega, boundary } = *r;
     let sweep = fold_options(&ArgNames::CLI, omega, s)?;
@@ -336,8 +336,14 @@ pub struct BackboneSettings {
     pub harmonics: usize,
 }
 
-/// The backbone of mode `s.mode` of `model` ([`crate::backbone`]).
-pub fn backbone<M: Model>(name: &str, model: &M, s: &BackboneSettings) -> Result<Backbone> {
+/// The backbone of mode `s.mode` of `model` ([`crate::backbone`]), reporting every
+/// event to `observer`, which may stop it.
+pub fn backbone<M: Model>(
+    name: &str,
+    model: &M,
+    s: &BackboneSettings,
+    observer: &mut dyn continuation::Observer<BackboneEvent, Backbone>,
+) -> Result<Backbone> {
     let output = match &s.output {
         Some(o) => model.output_index(o)?,
         None => 0,
@@ -349,7 +355,7 @@ pub fn backbone<M: Model>(name: &str, model: &M, s: &BackboneSettings) -> Result
         harmonics: s.harmonics,
         ..Default::default()
     };
-    let mut res = crate::backbone::backbone(model, &opts)?;
+    let mut res = crate::backbone::backbone_with(model, &opts, observer)?;
     res.model = name.to_string();
     Ok(res)
 }

@@ -2,6 +2,7 @@
 //! computation, a bar over a study's jobs, and [`CurveProgress`], the continuation
 //! observer that shows a sweep's points as they are accepted.
 
+use crate::backbone::{Backbone, CycleFamily};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::{Control, Event, Observer, Trace};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -110,5 +111,34 @@ pub fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
         }
         FoldEvent::CurveStart(i) | FoldEvent::CurveEnd(i) => format!("{label}: curve {}", i + 1),
         FoldEvent::Finished => format!("{label}: done"),
+    }
+}
+
+/// A backbone's progress: points so far and the last one's frequency and amplitude.
+pub fn backbone_message(label: &str, b: &Backbone) -> String {
+    match b.points.last() {
+        Some(p) => format!(
+            "{label}: mode {} backbone, {} points, ω = {:.6}, max |{}| = {:.4e}",
+            b.mode,
+            b.points.len(),
+            p.omega,
+            b.output_names.get(b.output).map_or("x", String::as_str),
+            p.outputs.get(b.output).map_or(f64::NAN, |o| o.max_abs),
+        ),
+        None => format!("{label}: mode {} backbone", b.mode),
+    }
+}
+
+/// A family of limit cycles' progress: cycles so far and the last one's parameter.
+pub fn family_message(label: &str, f: &CycleFamily) -> String {
+    match f.points.last() {
+        Some(p) => format!(
+            "{label}: {} limit cycles, {} = {:.6e}, ω = {:.6}",
+            f.points.len(),
+            f.parameter,
+            p.value,
+            p.omega
+        ),
+        None => format!("{label}: limit cycles in {}", f.parameter),
     }
 }

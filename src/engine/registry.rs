@@ -9,9 +9,9 @@ use super::{
     self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
     SweepBackbone, SweepSettings,
 };
-use crate::backbone::{Backbone, Cycle, CycleFamily, FamilyOptions};
+use crate::backbone::{Backbone, BackboneEvent, Cycle, CycleFamily, FamilyEvent, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
-use crate::continuation::{Control, Observer};
+use crate::continuation::Observer;
 use crate::error::{Error, Result};
 use crate::model::{BoxedModel, Model, Output, ParamInfo, Text};
 use crate::results::{Curve, SimRecord, SolveRecord};
@@ -146,14 +146,18 @@ impl NamedModel {
         &self,
         r: &FoldRange,
         s: &SweepSettings,
-        obs: &mut dyn FnMut(&FoldEvent, &FoldCurves) -> Control,
+        obs: &mut dyn Observer<FoldEvent, FoldCurves>,
     ) -> Result<FoldCurves> {
         engine::fold_curves(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
     }
 
     /// The backbone (nonlinear mode) of one mode.
-    pub fn backbone(&self, s: &BackboneSettings) -> Result<Backbone> {
-        engine::backbone(&self.name, &self.model, s).map_err(|e| self.named(e))
+    pub fn backbone(
+        &self,
+        s: &BackboneSettings,
+        obs: &mut dyn Observer<BackboneEvent, Backbone>,
+    ) -> Result<Backbone> {
+        engine::backbone(&self.name, &self.model, s, obs).map_err(|e| self.named(e))
     }
 
     /// The backbones of the modes in `[range.0, range.1]`, each output's continued to
@@ -176,8 +180,13 @@ impl NamedModel {
     }
 
     /// The limit cycle continued in a parameter, with its Hopf point.
-    pub fn cycles(&self, opts: &FamilyOptions) -> Result<CycleFamily> {
-        let mut f = crate::backbone::cycles(&self.model, opts).map_err(|e| self.named(e))?;
+    pub fn cycles(
+        &self,
+        opts: &FamilyOptions,
+        obs: &mut dyn Observer<FamilyEvent, CycleFamily>,
+    ) -> Result<CycleFamily> {
+        let mut f =
+            crate::backbone::cycles_with(&self.model, opts, obs).map_err(|e| self.named(e))?;
         f.model = self.name.clone();
         Ok(f)
     }

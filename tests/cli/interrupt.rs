@@ -234,6 +234,64 @@ fn a_signal_inside_one_long_point_stops_within_seconds() {
     assert!(err.starts_with("error: interrupted before the first fold"), "{err}");
 }
 
+/// A backbone and a family of limit cycles stop at a signal too, within the grace
+/// period: their points so far are written, ended "stopped", with exit code 130 and a
+/// message that counts them (the family's Hopf point is still looked for in the
+/// rest of the range: van der Pol's equilibrium turns unstable at μ = 0).
+#[test]
+fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
+    let dir = tmp("stopped-backbone");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let runs: [(&str, &[&str]); 2] = [
+        ("backbone", &["backbone", "quarter-car", "--to", "300", "--harmonics", "300"]),
+        ("cycles", &["cycle", "van-der-pol", "--omega", "1", "--param", "mu", "--from", "1"]),
+    ];
+    for (what, args) in runs {
+        let json = dir.join(format!("{what}.json"));
+        // The first point takes a second or so, longer while other tests load the
+        // machine: a signal before it writes nothing, so a later one is tried then.
+        let mut stopped = None;
+        for wait in [2, 5, 10] {
+            let mut cmd = Command::new(env!("CARGO_BIN_EXE_ihbm"));
+            cmd.args(args);
+            if what == "cycles" {
+                cmd.args(["--to", "-0.5", "--harmonics", "200"]);
+            }
+            let child = cmd
+                .arg("--json")
+                .arg(&json)
+                .stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap();
+            std::thread::sleep(Duration::from_secs(wait));
+            let (code, err, waited) = stop_and_wait(child, "-TERM");
+            assert!(waited < Duration::from_secs(5), "{what}: exited {waited:?} after the signal");
+            assert_eq!(code, Some(130), "{what}: {err}");
+            if json.exists() {
+                stopped = Some(err);
+                break;
+            }
+            assert!(err.contains("interrupted before the first"), "{what}: {err}");
+        }
+        let err = stopped.unwrap_or_else(|| panic!("{what}: no point in 10 s"));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(v["ended"], "stopped", "{what}");
+        let n = v["points"].as_array().unwrap().len();
+        assert!(n >= 1, "{what}");
+        assert_eq!(
+            err.trim_end(),
+            format!("error: interrupted: the {n} point(s) traced so far are written"),
+            "{what}"
+        );
+        if what == "cycles" {
+            assert!(v["hopf"]["value"].as_f64().unwrap().abs() < 1e-8, "{}", v["hopf"]);
+        }
+    }
+}
+
 /// Send `sig` and wait for the exit: its code, its standard error, and how long it
 /// took after the signal.
 fn stop_and_wait(child: Child, sig: &str) -> (Option<i32>, String, Duration) {

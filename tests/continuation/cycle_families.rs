@@ -167,7 +167,7 @@ fn bad_family_input_is_refused_with_the_reason() {
 /// traced is kept, and it says it was stopped.
 #[test]
 fn an_observer_sees_every_point_and_may_stop_the_family() {
-    use ihbm::backbone::cycles_with;
+    use ihbm::backbone::{cycles_with, CycleFamily, FamilyEvent};
     use ihbm::continuation::Control;
     let opts = FamilyOptions {
         param: "mu".into(),
@@ -178,7 +178,7 @@ fn an_observer_sees_every_point_and_may_stop_the_family() {
         ..Default::default()
     };
     let mut seen = Vec::new();
-    let f = cycles_with(&VanDerPol::default(), &opts, &mut |f| {
+    let f = cycles_with(&VanDerPol::default(), &opts, &mut |_: &FamilyEvent, f: &CycleFamily| {
         seen.push(f.points.len());
         if f.points.len() >= 4 {
             Control::Stop

@@ -121,3 +121,44 @@ fn turns_in_amplitude_are_flagged_and_followed() {
         assert!((t.omega - model.w2 / 3.0).abs() < 0.01, "ω = {} in the tongue", t.omega);
     }
 }
+
+/// A backbone driven step by step is the backbone: the same points and events, each
+/// event reported after the point before it and before the point after it; stopped
+/// part way it keeps exactly the points and events traced so far.
+#[test]
+fn a_stepped_backbone_is_the_backbone_and_a_stop_keeps_what_was_traced() {
+    use ihbm::backbone::{BackboneContinuation, BackboneEvent};
+    let model = ThreeToOne { e: 0.05, ..Default::default() };
+    let opts = BackboneOptions { to: 1.0, harmonics: 9, max_steps: 120, ..Default::default() };
+    let whole = backbone(&model, &opts).unwrap();
+    assert!(!whole.events.is_empty(), "a turn to report");
+
+    let mut run = BackboneContinuation::new(&model, &opts).unwrap();
+    let (mut points, mut events) = (0, 0);
+    loop {
+        match run.step() {
+            BackboneEvent::Point(i) => {
+                assert_eq!(i, points);
+                points += 1;
+            }
+            BackboneEvent::Event(i) => {
+                assert_eq!(i, events);
+                assert_eq!(run.traced().events[i].after + 1, points, "event {i}");
+                events += 1;
+            }
+            BackboneEvent::Finished => break,
+        }
+    }
+    assert_eq!(run.step(), BackboneEvent::Finished);
+    assert_eq!((points, events), (whole.points.len(), whole.events.len()));
+    assert_eq!(run.finish(), whole);
+
+    let stop_at = whole.events[0].after + 3;
+    let mut run = BackboneContinuation::new(&model, &opts).unwrap();
+    while run.step() != BackboneEvent::Point(stop_at) {}
+    let part = run.finish();
+    assert_eq!(part.ended, BackboneEnd::Stopped);
+    assert_eq!(part.points, whole.points[..=stop_at]);
+    let before: Vec<_> = whole.events.iter().filter(|e| e.after < stop_at).cloned().collect();
+    assert_eq!(part.events, before);
+}
