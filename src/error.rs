@@ -76,7 +76,7 @@ pub enum Error {
     /// parameter range.
     #[error("no {what} for Ω in [{omega_from}, {omega_to}] at {parameter} = {from} or at {parameter} = {to}: nothing to continue (widen the frequency or the parameter range)")]
     NoFolds {
-        /// What was looked for: "fold" or "period doubling".
+        /// What was looked for, in words ([`BifurcationKind::noun`](crate::results::BifurcationKind::noun)).
         what: String,
         /// The parameter's name.
         parameter: String,
@@ -232,7 +232,7 @@ fn hill(omega: &f64, failure: &HillFailure, f: &mut std::fmt::Formatter<'_>) -> 
 }
 
 /// Why a traced path could not go on, or could not start: a segment of a curve
-/// ([`SegmentEnd::Stalled`](crate::results::SegmentEnd::Stalled)), a fold curve, a
+/// ([`End::Stalled`](crate::results::End::Stalled)), a fold curve, a
 /// backbone, a family of limit cycles. Each reason keeps what was known where it
 /// happened, numbers as numbers; its text is what the reports show after `stalled: `.
 ///

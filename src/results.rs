@@ -26,30 +26,53 @@ pub struct OutputSummary {
     pub sin: Vec<f64>,
 }
 
-/// Why a piece of a traced curve ended.
+/// Why a path ended: a segment of a sweep, a fold (period-doubling, torus) curve, a
+/// backbone, a family of limit cycles. One enum for every path; each variant says
+/// which paths end that way. Its text is the JSON's `ended`.
 #[derive(Debug, Clone, PartialEq)]
-pub enum SegmentEnd {
-    /// The continuation parameter reached the end of the requested range.
+pub enum End {
+    /// The continuation parameter reached the end of the requested range (every path
+    /// but a backbone).
     ReachedEnd,
-    /// The response exceeded the amplitude bound (a branch climbing an undamped asymptote).
+    /// The continued output reached the requested amplitude (a backbone; its last
+    /// point is there).
+    ReachedAmplitude,
+    /// The response exceeded the amplitude bound (a sweep's branch climbing an
+    /// undamped asymptote, a fold climbing towards a runaway branch).
     AmplitudeBound,
-    /// The corrector failed even at the minimum step, or another failure; the reason.
-    Stalled(Stall),
-    /// An observer stopped the run ([`Continuation::run`](crate::continuation::Continuation::run)).
-    Stopped,
+    /// Ω reached the end of the frequency range (a fold curve).
+    LeftOmegaRange,
+    /// The curve came back to its first point (an isola of folds).
+    Closed,
+    /// A torus curve's torus frequency reached 0 or Ω/2 (a strong resonance: the
+    /// curve meets a fold or a period-doubling curve there).
+    StrongResonance,
+    /// The cycle shrank to the equilibrium (a family of limit cycles, at its Hopf
+    /// point; the last point is the smallest traced).
+    Collapsed,
     /// A branch started by switching came back to the solutions it left (a
     /// period-2 branch rejoining the period-1 curve at another period doubling).
     Rejoined,
+    /// The corrector failed even at the minimum step, the step limit, or another
+    /// failure; the reason.
+    Stalled(Stall),
+    /// An observer stopped the run (what was traced is kept).
+    Stopped,
 }
 
-impl std::fmt::Display for SegmentEnd {
+impl std::fmt::Display for End {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            SegmentEnd::ReachedEnd => write!(f, "reached end"),
-            SegmentEnd::AmplitudeBound => write!(f, "amplitude bound"),
-            SegmentEnd::Stalled(why) => write!(f, "stalled: {why}"),
-            SegmentEnd::Stopped => write!(f, "stopped"),
-            SegmentEnd::Rejoined => write!(f, "rejoined the curve it branched from"),
+            End::ReachedEnd => write!(f, "reached end"),
+            End::ReachedAmplitude => write!(f, "reached the amplitude"),
+            End::AmplitudeBound => write!(f, "amplitude bound"),
+            End::LeftOmegaRange => write!(f, "left the frequency range"),
+            End::Closed => write!(f, "closed"),
+            End::StrongResonance => write!(f, "strong resonance"),
+            End::Collapsed => write!(f, "collapsed to the equilibrium"),
+            End::Rejoined => write!(f, "rejoined the curve it branched from"),
+            End::Stalled(why) => write!(f, "stalled: {why}"),
+            End::Stopped => write!(f, "stopped"),
         }
     }
 }
@@ -247,7 +270,7 @@ pub struct Segment {
     /// Value where it ended.
     pub to: f64,
     /// Why it ended.
-    pub ended: SegmentEnd,
+    pub ended: End,
 }
 
 /// Counters for a traced curve (snapshot-tested).
@@ -383,6 +406,21 @@ pub enum BifurcationKind {
     /// root that crossed, so which of the above it is is not known (nor is it located:
     /// [`Bifurcation::located`] is `false`).
     StabilityChange,
+}
+
+impl BifurcationKind {
+    /// The kind in running text ("period doubling"), where [`Display`](std::fmt::Display)
+    /// gives its one spelling as a key ("period-doubling", as the JSON writes it and
+    /// the command line, study files and Python take it).
+    pub fn noun(&self) -> &'static str {
+        match self {
+            BifurcationKind::Fold => "fold",
+            BifurcationKind::BranchPoint => "branch point",
+            BifurcationKind::PeriodDoubling => "period doubling",
+            BifurcationKind::Torus => "torus",
+            BifurcationKind::StabilityChange => "stability change",
+        }
+    }
 }
 
 impl std::fmt::Display for BifurcationKind {

@@ -10,7 +10,7 @@
 //! one exponent is always zero (shifting the cycle in time is no perturbation): it
 //! is left out of the verdict.
 
-use super::{Backbone, BackboneContinuation, BackboneEnd, BackboneOptions, Goal};
+use super::{Backbone, BackboneContinuation, BackboneOptions, End, Goal};
 use crate::balance::Balance;
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -97,7 +97,7 @@ pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
         BackboneOptions { mode, harmonics: opts.harmonics, max_steps: 500, ..Default::default() };
     let branch = BackboneContinuation::start(model, &bo, Goal::ZeroDamping(opts.max), opts.start)?
         .run(&mut ());
-    let Some(last) = branch.points.last().filter(|_| branch.ended == BackboneEnd::Reached) else {
+    let Some(last) = branch.points.last().filter(|_| branch.ended == End::ReachedAmplitude) else {
         return Err(Error::Other(format!(
             "no limit cycle near ω = {} rad/s (mode {mode}): {}",
             opts.omega, branch.ended

@@ -24,7 +24,7 @@ use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::outputs::OutputEval;
-use crate::results::{PointOutput, Stability, Stall, Unknown};
+use crate::results::{End, PointOutput, Stability, Stall, Unknown};
 
 /// Settings of [`cycles`]; `param`, `from`, `to` and `omega` must be set.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,30 +103,6 @@ pub struct Hopf {
     pub omega: f64,
 }
 
-/// Why a family ended.
-#[derive(Debug, Clone, PartialEq)]
-pub enum FamilyEnd {
-    /// The parameter reached the end of its range (the last point is there).
-    Reached,
-    /// The cycle shrank to the equilibrium (the last point is the smallest traced).
-    Collapsed,
-    /// The corrector failed at the smallest step, or the step limit; the reason.
-    Stalled(Stall),
-    /// An observer stopped it.
-    Stopped,
-}
-
-impl std::fmt::Display for FamilyEnd {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            FamilyEnd::Reached => write!(f, "reached the end of the range"),
-            FamilyEnd::Collapsed => write!(f, "collapsed to the equilibrium"),
-            FamilyEnd::Stalled(why) => write!(f, "stalled: {why}"),
-            FamilyEnd::Stopped => write!(f, "stopped"),
-        }
-    }
-}
-
 /// A family of limit cycles in a parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CycleFamily {
@@ -151,7 +127,7 @@ pub struct CycleFamily {
     /// stalled), if the equilibrium's pair crosses the imaginary axis there.
     pub hopf: Option<Hopf>,
     /// Why it ended.
-    pub ended: FamilyEnd,
+    pub ended: End,
     /// Newton iterations and accepted steps.
     pub iterations: usize,
     /// See `iterations`.
@@ -170,7 +146,7 @@ pub fn cycles<M: Model + Clone>(model: &M, opts: &FamilyOptions) -> Result<Cycle
 }
 
 /// [`cycles`], reporting every point to `observer`, which may stop the run (what is
-/// traced is returned, ended [`FamilyEnd::Stopped`], with the Hopf point in the
+/// traced is returned, ended [`End::Stopped`], with the Hopf point in the
 /// range covered).
 pub fn cycles_with<M: Model + Clone>(
     model: &M,
@@ -196,7 +172,7 @@ pub enum FamilyEvent {
 /// [`new`](Self::new) finds the first cycle, each [`step`](Self::step) takes one
 /// pseudo-arclength step in the parameter, and [`finish`](Self::finish) locates the
 /// Hopf point in the range covered and gives the family, ended
-/// [`FamilyEnd::Stopped`] if it was not done.
+/// [`End::Stopped`] if it was not done.
 ///
 /// ```
 /// use ihbm::backbone::{CycleContinuation, FamilyEvent, FamilyOptions};
@@ -316,7 +292,7 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
             output_names: m0.outputs().iter().map(|o| o.name.to_string()).collect(),
             points: Vec::new(),
             hopf: None,
-            ended: FamilyEnd::Stopped,
+            ended: End::Stopped,
             iterations: 0,
             steps: 0,
         };
@@ -374,16 +350,16 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
         }
     }
 
-    /// The family traced, ended [`FamilyEnd::Stopped`] unless it was done, with the
+    /// The family traced, ended [`End::Stopped`] unless it was done, with the
     /// Hopf point in the range it covers (to the end of the range when it ended
     /// before).
     pub fn finish(mut self) -> CycleFamily {
         if !self.done {
-            self.res.ended = FamilyEnd::Stopped;
+            self.res.ended = End::Stopped;
         }
         let f = &mut self.res;
         let mut values: Vec<f64> = f.points.iter().map(|p| p.value).collect();
-        if f.ended != FamilyEnd::Reached {
+        if f.ended != End::ReachedEnd {
             values.push(f.range.1);
         }
         f.hopf = hopf::locate(self.model, self.index, f.mode, &values);
@@ -391,14 +367,14 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
     }
 
     /// One pseudo-arclength step: the cycle accepted (pushed), or the family's end.
-    fn advance(&mut self) -> Option<FamilyEnd> {
+    fn advance(&mut self) -> Option<End> {
         let (to, max_steps) = (self.opts.to, self.opts.max_steps);
         if self.res.points.len() >= max_steps {
-            return Some(FamilyEnd::Stalled(Stall::StepLimit { steps: max_steps }));
+            return Some(End::Stalled(Stall::StepLimit { steps: max_steps }));
         }
         let step = match self.tracer.advance(&self.y, &self.t) {
             Ok(x) => x,
-            Err(why) => return Some(FamilyEnd::Stalled(why)),
+            Err(why) => return Some(End::Stalled(why)),
         };
         let z = &step.point;
         let dir = (to - self.opts.from).signum();
@@ -414,9 +390,9 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
                         let p = self.cycle_at(&w);
                         self.res.points.push(p);
                         self.res.steps += 1;
-                        FamilyEnd::Reached
+                        End::ReachedEnd
                     }
-                    Err(why) => FamilyEnd::Stalled(Stall::LandParameter {
+                    Err(why) => End::Stalled(Stall::LandParameter {
                         parameter: self.opts.param.clone(),
                         value: to,
                         cause: Box::new(why),
@@ -429,7 +405,7 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
         self.res.points.push(p);
         self.res.steps += 1;
         if collapsed {
-            return Some(FamilyEnd::Collapsed);
+            return Some(End::Collapsed);
         }
         self.tracer.adapt(&step);
         (self.y, self.t) = (step.point, step.tangent);

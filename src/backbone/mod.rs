@@ -46,12 +46,13 @@ use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
 use crate::model::Model;
 use crate::outputs::OutputEval;
+pub use crate::results::End;
 use crate::results::{PointOutput, Stability, Stall, Unknown};
 pub use cycle::{cycle, Cycle, CycleOptions};
 use epmc::Epmc;
 pub use family::{
-    cycles, cycles_with, CycleContinuation, CycleFamily, CyclePoint, FamilyEnd, FamilyEvent,
-    FamilyOptions, Hopf,
+    cycles, cycles_with, CycleContinuation, CycleFamily, CyclePoint, FamilyEvent, FamilyOptions,
+    Hopf,
 };
 
 /// Where a trace stops.
@@ -182,27 +183,6 @@ pub struct ModeEvent {
     pub after: usize,
 }
 
-/// Why a backbone ended.
-#[derive(Debug, Clone, PartialEq)]
-pub enum BackboneEnd {
-    /// The output reached the requested amplitude (the last point is there).
-    Reached,
-    /// The corrector failed at the smallest step, or the step limit; the reason.
-    Stalled(Stall),
-    /// An observer stopped it.
-    Stopped,
-}
-
-impl std::fmt::Display for BackboneEnd {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            BackboneEnd::Reached => write!(f, "reached the amplitude"),
-            BackboneEnd::Stalled(why) => write!(f, "stalled: {why}"),
-            BackboneEnd::Stopped => write!(f, "stopped"),
-        }
-    }
-}
-
 /// A backbone: the linear mode it starts from and the traced points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Backbone {
@@ -226,7 +206,7 @@ pub struct Backbone {
     /// The turns and internal resonances met on the way, in order.
     pub events: Vec<ModeEvent>,
     /// Why it ended.
-    pub ended: BackboneEnd,
+    pub ended: End,
     /// Newton iterations and accepted steps.
     pub iterations: usize,
     /// See `iterations`.
@@ -238,13 +218,13 @@ pub struct Backbone {
 /// Errors for bad input (a mode beyond the DOFs, an unknown output, a target
 /// amplitude that is not positive, a mode that is not oscillatory at rest) and when
 /// the start does not converge. A backbone that cannot reach the amplitude (it turns
-/// back or runs away) ends [`BackboneEnd::Stalled`] with what was traced.
+/// back or runs away) ends [`End::Stalled`] with what was traced.
 pub fn backbone<M: Model>(model: &M, opts: &BackboneOptions) -> Result<Backbone> {
     backbone_with(model, opts, &mut ())
 }
 
 /// [`backbone`], reporting every event to `observer`, which may stop the run (what is
-/// traced is returned, ended [`BackboneEnd::Stopped`]).
+/// traced is returned, ended [`End::Stopped`]).
 pub fn backbone_with<M: Model>(
     model: &M,
     opts: &BackboneOptions,
@@ -272,7 +252,7 @@ pub enum BackboneEvent {
 /// drives a sweep: [`new`](Self::new) converges the start, each
 /// [`step`](Self::step) takes one pseudo-arclength step (or reports what the last
 /// one found), and [`finish`](Self::finish) gives what is traced, ended
-/// [`BackboneEnd::Stopped`] if the backbone was not done.
+/// [`End::Stopped`] if the backbone was not done.
 ///
 /// ```
 /// use ihbm::backbone::{BackboneContinuation, BackboneEvent, BackboneOptions};
@@ -371,7 +351,7 @@ impl<'m, M: Model> BackboneContinuation<'m, M> {
             linear: (f64::NAN, f64::NAN),
             points: Vec::new(),
             events: Vec::new(),
-            ended: BackboneEnd::Stopped,
+            ended: End::Stopped,
             iterations: 0,
             steps: 0,
         };
@@ -447,10 +427,10 @@ impl<'m, M: Model> BackboneContinuation<'m, M> {
         }
     }
 
-    /// What is traced: ended [`BackboneEnd::Stopped`] unless the backbone was done.
+    /// What is traced: ended [`End::Stopped`] unless the backbone was done.
     pub fn finish(mut self) -> Backbone {
         if !self.done {
-            self.res.ended = BackboneEnd::Stopped;
+            self.res.ended = End::Stopped;
         }
         self.res
     }
@@ -543,16 +523,11 @@ impl<M: Model> Tracer<'_, M> {
     }
 
     /// One accepted point (pushed to `res`), or the end.
-    fn step(
-        &mut self,
-        y: &mut Vec<f64>,
-        t: &mut Vec<f64>,
-        res: &mut Backbone,
-    ) -> Option<BackboneEnd> {
+    fn step(&mut self, y: &mut Vec<f64>, t: &mut Vec<f64>, res: &mut Backbone) -> Option<End> {
         if res.points.len() >= self.opts.max_steps {
             let last =
                 res.points.last().map_or((f64::NAN, f64::NAN), |p| (p.xi, self.amplitude(p)));
-            return Some(BackboneEnd::Stalled(match self.goal {
+            return Some(End::Stalled(match self.goal {
                 Goal::Amplitude(_) => Stall::StepLimit { steps: self.opts.max_steps },
                 Goal::ZeroDamping(_) => Stall::DampingKeptSign {
                     xi: last.0,
@@ -564,7 +539,7 @@ impl<M: Model> Tracer<'_, M> {
         }
         let step = match self.advance(y, t) {
             Ok(x) => x,
-            Err(why) => return Some(BackboneEnd::Stalled(why)),
+            Err(why) => return Some(End::Stalled(why)),
         };
         let z = step.point.clone();
         let p = self.point(&z);
@@ -576,7 +551,7 @@ impl<M: Model> Tracer<'_, M> {
                 return Some(self.land_zero_damping(y, &z, res));
             }
             Goal::ZeroDamping(max) if self.amplitude(&p) > max => {
-                return Some(BackboneEnd::Stalled(Stall::DampingKeptSign {
+                return Some(End::Stalled(Stall::DampingKeptSign {
                     xi: p.xi,
                     output: res.output_names[self.opts.output].clone(),
                     amplitude: self.amplitude(&p),
@@ -690,7 +665,7 @@ impl<M: Model> Tracer<'_, M> {
 
     /// The point between `y` and `z` where ξ = 0, by Newton on the row `ξ = 0` from
     /// the linear interpolation.
-    fn land_zero_damping(&mut self, y: &[f64], z: &[f64], res: &mut Backbone) -> BackboneEnd {
+    fn land_zero_damping(&mut self, y: &[f64], z: &[f64], res: &mut Backbone) -> End {
         let n = self.sys.n;
         let (xa, xb) = (y[n + 1], z[n + 1]);
         let f = if xb != xa { xa / (xa - xb) } else { 0.5 };
@@ -701,15 +676,15 @@ impl<M: Model> Tracer<'_, M> {
             Ok(_) => {
                 let p = self.point(&w);
                 self.push(res, p);
-                BackboneEnd::Reached
+                End::ReachedAmplitude
             }
-            Err(why) => BackboneEnd::Stalled(Stall::LocateZeroDamping { cause: Box::new(why) }),
+            Err(why) => End::Stalled(Stall::LocateZeroDamping { cause: Box::new(why) }),
         }
     }
 
     /// The point where the output's amplitude is `to`, between `y` (below) and `z`
     /// (above): secant iterations on the log amplitude, corrected at fixed `u`.
-    fn land(&mut self, y: &[f64], z: &[f64], to: f64, res: &mut Backbone) -> BackboneEnd {
+    fn land(&mut self, y: &[f64], z: &[f64], to: f64, res: &mut Backbone) -> End {
         let n = self.sys.n;
         let mut eu = vec![0.0; n + 3];
         eu[n + 2] = 1.0;
@@ -725,10 +700,7 @@ impl<M: Model> Tracer<'_, M> {
             w[n + 2] = u;
             if let Err(why) = self.sys.correct(&mut w, &eu, u, self.opts.max_iter.max(LOCATE_ITER))
             {
-                return BackboneEnd::Stalled(Stall::LandAmplitude {
-                    amplitude: to,
-                    cause: Box::new(why),
-                });
+                return End::Stalled(Stall::LandAmplitude { amplitude: to, cause: Box::new(why) });
             }
             let p = self.point(&w);
             let f = (self.amplitude(&p) / to).ln();
@@ -741,6 +713,6 @@ impl<M: Model> Tracer<'_, M> {
             }
         }
         self.push(res, best);
-        BackboneEnd::Reached
+        End::ReachedAmplitude
     }
 }

@@ -3,7 +3,7 @@
 //! curve, with the cusps (turning points of the parameter) located on the way.
 
 use super::fold_system::FoldSystem;
-use super::{CurveEnd, Cusp, FoldPoint, TurnKind};
+use super::{Cusp, End, FoldPoint, TurnKind};
 
 /// Corrector iterations that count as no effort ([`StepSize::easy`]): the extended
 /// system's Newton has no chord steps.
@@ -35,7 +35,7 @@ pub(crate) enum Step {
     /// A point was accepted (with the cusp located inside the step that reached it, if any).
     Point(Option<Cusp>),
     /// The curve ended.
-    Ended(CurveEnd),
+    Ended(End),
 }
 
 struct Node {
@@ -52,7 +52,7 @@ pub(crate) struct FoldCurveTracer<'m, M: Model> {
     h: f64,
     pub steps: usize,
     pub rejected: usize,
-    ended: Option<CurveEnd>,
+    ended: Option<End>,
 }
 
 impl<'m, M: Model> FoldCurveTracer<'m, M> {
@@ -173,9 +173,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
         loop {
             if self.steps >= self.opts.max_steps {
-                return Step::Ended(CurveEnd::Stalled(Stall::StepLimit {
-                    steps: self.opts.max_steps,
-                }));
+                return Step::Ended(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
             }
             let h = self.h;
             let mut y: Vec<f64> = y0.iter().zip(&t0).map(|(a, t)| a + h * t).collect();
@@ -190,7 +188,7 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
                     self.rejected += 1;
                     self.h *= 0.5;
                     if self.h < self.opts.min_step {
-                        return Step::Ended(CurveEnd::Stalled(why));
+                        return Step::Ended(End::Stalled(why));
                     }
                     continue;
                 }
@@ -213,13 +211,13 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
             let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
             self.h = self.opts.step_size(EASY).after(h, it, angle, amp);
             if self.closed() {
-                return Step::Ended(CurveEnd::Closed);
+                return Step::Ended(End::Closed);
             }
             if self.beyond_bound() {
-                return Step::Ended(CurveEnd::AmplitudeBound);
+                return Step::Ended(End::AmplitudeBound);
             }
             if self.resonant() {
-                return Step::Ended(CurveEnd::StrongResonance);
+                return Step::Ended(End::StrongResonance);
             }
             return Step::Point(cusp);
         }
@@ -276,15 +274,9 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
                     t.iter_mut().for_each(|v| *v = -*v);
                 }
                 self.accept(yb, t);
-                Step::Ended(if k == n + 1 {
-                    CurveEnd::ReachedEnd
-                } else {
-                    CurveEnd::LeftOmegaRange
-                })
+                Step::Ended(if k == n + 1 { End::ReachedEnd } else { End::LeftOmegaRange })
             }
-            Err(why) => {
-                Step::Ended(CurveEnd::Stalled(Stall::LandRangeEnd { cause: Box::new(why) }))
-            }
+            Err(why) => Step::Ended(End::Stalled(Stall::LandRangeEnd { cause: Box::new(why) })),
         }
     }
 

@@ -39,7 +39,8 @@ use crate::balance::Balance;
 use crate::continuation::{sweep, Control, Observer, SweepOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::results::{PointOutput, Stall};
+pub use crate::results::End;
+use crate::results::{BifurcationKind, PointOutput, Stall};
 use fold_curve::{FoldCurveTracer, Step};
 use fold_system::{FoldSystem, OddBlock, ParamScale};
 
@@ -109,41 +110,6 @@ pub struct Cusp {
     pub located: bool,
 }
 
-/// Why a fold curve ended.
-#[derive(Debug, Clone, PartialEq)]
-pub enum CurveEnd {
-    /// The parameter reached the end of its range.
-    ReachedEnd,
-    /// Ω reached the end of the frequency range.
-    LeftOmegaRange,
-    /// The curve came back to its first point (an isola of folds).
-    Closed,
-    /// The response at the fold exceeded the amplitude bound of the options (a fold
-    /// climbing towards a runaway branch).
-    AmplitudeBound,
-    /// A torus curve's torus frequency reached 0 or Ω/2 (a strong resonance: the
-    /// curve meets a fold or a period-doubling curve there).
-    StrongResonance,
-    /// The corrector failed at the smallest step, or another failure; the reason.
-    Stalled(Stall),
-    /// An observer stopped the run.
-    Stopped,
-}
-
-impl std::fmt::Display for CurveEnd {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            CurveEnd::ReachedEnd => write!(f, "reached end"),
-            CurveEnd::LeftOmegaRange => write!(f, "left the frequency range"),
-            CurveEnd::Closed => write!(f, "closed"),
-            CurveEnd::AmplitudeBound => write!(f, "amplitude bound"),
-            CurveEnd::StrongResonance => write!(f, "strong resonance"),
-            CurveEnd::Stalled(why) => write!(f, "stalled: {why}"),
-            CurveEnd::Stopped => write!(f, "stopped"),
-        }
-    }
-}
-
 /// Which end of the parameter range a fold curve started from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RangeEnd {
@@ -164,7 +130,7 @@ pub struct FoldCurve {
     /// Its points.
     pub points: Vec<FoldPoint>,
     /// Why it ended.
-    pub ended: CurveEnd,
+    pub ended: End,
 }
 
 /// The fold curves of a model in the (Ω, parameter) plane and their cusps.
@@ -238,13 +204,21 @@ pub enum Boundary {
     Torus,
 }
 
+impl From<Boundary> for BifurcationKind {
+    fn from(b: Boundary) -> Self {
+        match b {
+            Boundary::Fold => BifurcationKind::Fold,
+            Boundary::PeriodDoubling => BifurcationKind::PeriodDoubling,
+            Boundary::Torus => BifurcationKind::Torus,
+        }
+    }
+}
+
+/// The kind's one spelling ([`BifurcationKind`]'s: `fold`, `period-doubling`,
+/// `torus`), the same a study file, the command line and Python take.
 impl std::fmt::Display for Boundary {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Boundary::Fold => "fold",
-            Boundary::PeriodDoubling => "period doubling",
-            Boundary::Torus => "torus",
-        })
+        BifurcationKind::from(*self).fmt(f)
     }
 }
 
@@ -598,7 +572,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
                     start: end,
                     start_fold,
                     points: tracer.points.clone(),
-                    ended: CurveEnd::Stopped,
+                    ended: End::Stopped,
                 });
                 self.phase = Phase::Walk { ci, tracer: Box::new(tracer) };
                 Ok(FoldEvent::CurveStart(ci))
@@ -608,7 +582,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
                     start: end,
                     start_fold,
                     points: Vec::new(),
-                    ended: CurveEnd::Stalled(why),
+                    ended: End::Stalled(why),
                 });
                 Ok(FoldEvent::CurveEnd(ci))
             }
@@ -663,7 +637,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
     fn no_folds(&self) -> Error {
         let (from, to) = self.range;
         Error::NoFolds {
-            what: self.boundary.to_string(),
+            what: BifurcationKind::from(self.boundary).noun().to_string(),
             parameter: self.res.parameter.clone(),
             from,
             to,
@@ -708,7 +682,7 @@ fn reference_force<M: Model>(model: &M, harmonics: usize, omega: f64) -> Result<
 fn traced_already(res: &FoldCurves, value: f64, omega: f64, coeffs: &[f64]) -> bool {
     let scale = coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(f64::MIN_POSITIVE);
     res.curves.iter().any(|c| {
-        c.ended == CurveEnd::ReachedEnd
+        c.ended == End::ReachedEnd
             && c.points.last().is_some_and(|p| {
                 (p.value - value).abs() <= 1e-9 * value.abs().max(f64::MIN_POSITIVE)
                     && (p.omega - omega).abs() <= 1e-6 * omega

@@ -19,7 +19,7 @@ use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::linalg::DenseLu;
 use crate::model::Model;
-use crate::results::{BifurcationKind, Curve, SegmentEnd};
+use crate::results::{BifurcationKind, Curve, End};
 use faer::prelude::ReborrowMut;
 
 /// The largest even-harmonic content (relative to the odd) of a solution counted as
@@ -95,7 +95,7 @@ pub fn period_two<M: Model + Clone>(
         let curve = branch_at(model, &curve1, pd.omega, pd.after, from, to, opts)?;
         let last = curve.points.last().map(|p| p.omega);
         for (seg, end) in curve.segments.iter().enumerate() {
-            if end.ended == SegmentEnd::Rejoined {
+            if end.ended == End::Rejoined {
                 let at = curve.points.iter().rev().find(|p| p.segment == seg).map(|p| p.omega);
                 rejoined_at.extend(at.or(last));
             }

@@ -374,8 +374,8 @@ the zero exponent every autonomous cycle has (a shift in time).
 With --param P --from V0 --to V1 the cycle at P = V0 is continued to V1: JSON {model,
 harmonics, parameter, mode, points: [{value, omega, period, stable, outputs: {X:
 {max_abs, mean, amp1}}}], hopf: {value, omega} or null, ended, range, stats}. ended is
-\"reached the end of the range\", \"collapsed to the equilibrium\" (the cycle shrank
-to nothing: the Hopf point is near) or \"stalled: ...\"; hopf is where the
+\"reached end\", \"collapsed to the equilibrium\" (the cycle shrank
+to nothing: the Hopf point is near), \"stalled: ...\" or \"stopped\"; hopf is where the
 equilibrium's pair of eigenvalues of the cycle's mode crosses the imaginary axis in the
 range covered. The CSV has one row per point: P,omega,period,stable,<out>_max_abs,...";
 

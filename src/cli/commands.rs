@@ -2,9 +2,7 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
-use crate::backbone::{
-    Backbone, BackboneEnd, BackboneEvent, CycleFamily, FamilyEnd, FamilyEvent, FamilyOptions,
-};
+use crate::backbone::{Backbone, BackboneEvent, CycleFamily, End, FamilyEvent, FamilyOptions};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::{Control, Observer};
 use crate::engine::detach::{self, Detached, Latest, TraceCopy};
@@ -365,8 +363,8 @@ fn write_backbone(
         }
     }
     match &b.ended {
-        BackboneEnd::Reached => Ok(()),
-        BackboneEnd::Stopped => Err(stopped(b.points.len())),
+        End::ReachedAmplitude => Ok(()),
+        End::Stopped => Err(stopped(b.points.len())),
         end => Err(Failure::failed(format!(
             "the backbone did not reach max |{name}| = {} ({end}); the {} points traced are written",
             b.to,
@@ -418,8 +416,8 @@ fn write_cycles(
         }
     }
     match &f.ended {
-        FamilyEnd::Stopped => Err(stopped(f.points.len())),
-        FamilyEnd::Stalled(why) => Err(Failure::failed(format!(
+        End::Stopped => Err(stopped(f.points.len())),
+        End::Stalled(why) => Err(Failure::failed(format!(
             "the limit cycles did not reach {} = {} ({why}); the {} points traced are written",
             f.parameter,
             f.range.1,
@@ -485,7 +483,7 @@ fn write_folds(f: &FoldCurves, files: &CurveArgs, out: &mut dyn Write) -> Result
     }
     // As for sweeps: a curve that stalled is reported, and what it traced is kept.
     for (i, c) in f.curves.iter().enumerate() {
-        if matches!(c.ended, crate::bifurcation::CurveEnd::Stalled(_)) && files.json.is_none() {
+        if matches!(c.ended, crate::bifurcation::End::Stalled(_)) && files.json.is_none() {
             w(out, format_args!("warning: curve {i} {} (its points so far are kept)\n", c.ended))?;
         }
     }

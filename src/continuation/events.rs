@@ -3,7 +3,7 @@
 //! the [`Observer`]s that watch a run and may stop it.
 
 use crate::results::{
-    Bifurcation, Curve, CurvePoint, CurveStats, Fold, Jump, Parameter, Segment, SegmentEnd,
+    Bifurcation, Curve, CurvePoint, CurveStats, End, Fold, Jump, Parameter, Segment,
 };
 
 /// What one [`Continuation::step`](super::Continuation::step) produced. Indices point into the [`Trace`].
@@ -107,7 +107,7 @@ impl Trace {
 
     /// The curve as far as this trace goes, for a run abandoned between two events
     /// (an interrupted study keeps the copy an observer took at the last event): a
-    /// segment still being traced ends [`SegmentEnd::Stopped`], and the jumps are
+    /// segment still being traced ends [`End::Stopped`], and the jumps are
     /// those the points show, their landings not refined (what
     /// [`Continuation::finish`](super::Continuation::finish) adds).
     pub fn into_stopped_curve(mut self, model: &str, stability_checked: bool) -> Curve {
@@ -120,7 +120,7 @@ impl Trace {
         if let Some(first) = on.next() {
             let from = lambda(first);
             let to = on.next_back().map_or(from, lambda);
-            self.segments.push(Segment { from, to, ended: SegmentEnd::Stopped });
+            self.segments.push(Segment { from, to, ended: End::Stopped });
         }
         self.stats.folds = self.folds.len();
         self.stats.folds_unlocated = self.folds.iter().filter(|f| !f.located).count();

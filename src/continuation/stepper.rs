@@ -16,8 +16,8 @@ use crate::error::Result;
 use crate::model::Model;
 use crate::outputs::OutputEval;
 use crate::results::{
-    Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, Parameter, PointOutput, Segment,
-    SegmentEnd, Stability, Stall, Unknown,
+    Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, End, Parameter, PointOutput,
+    Segment, Stability, Stall, Unknown,
 };
 use crate::stability::{Crossing, Hill};
 use std::collections::VecDeque;
@@ -100,7 +100,7 @@ pub(super) struct Branch {
 /// let curve = run.finish();
 /// assert_eq!(curve.folds.len(), 1);
 /// // Stopped before the range end: the segment says so.
-/// assert_eq!(curve.segments.last().unwrap().ended, ihbm::results::SegmentEnd::Stopped);
+/// assert_eq!(curve.segments.last().unwrap().ended, ihbm::results::End::Stopped);
 /// # Ok::<(), ihbm::Error>(())
 /// ```
 pub struct Continuation<'m, M: Model> {
@@ -318,10 +318,10 @@ impl<'m, M: Model> Continuation<'m, M> {
     }
 
     /// The curve traced so far, with its jumps. A segment still being traced ends
-    /// [`SegmentEnd::Stopped`].
+    /// [`End::Stopped`].
     pub fn finish(mut self) -> Curve {
         if let State::Walk { seg, .. } = self.state {
-            self.end_segment(seg, SegmentEnd::Stopped);
+            self.end_segment(seg, End::Stopped);
         }
         self.queue.clear();
         let stats = &mut self.trace.stats;
@@ -339,12 +339,12 @@ impl<'m, M: Model> Continuation<'m, M> {
         self.trace.into_curve(self.model.name(), self.opts.stability.is_some(), jumps)
     }
 
-    fn end_segment(&mut self, seg: usize, ended: SegmentEnd) {
+    fn end_segment(&mut self, seg: usize, ended: End) {
         let start = if seg == 0 { self.lo } else { self.hi };
         let mut on = self.nodes.iter().filter(|nd| nd.segment == seg);
         let from = on.next().map_or(start, |nd| self.tr.lambda(&nd.y));
         let to = on.next_back().map_or(from, |nd| self.tr.lambda(&nd.y));
-        let reached_hi = matches!(ended, SegmentEnd::ReachedEnd)
+        let reached_hi = matches!(ended, End::ReachedEnd)
             && self.nodes.last().is_some_and(|nd| {
                 nd.segment == seg && self.tr.lambda(&nd.y) >= self.hi - 1e-12 * (self.hi - self.lo)
             });
@@ -449,7 +449,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let mut y: Vec<f64> = y0.iter().zip(&border).map(|(a, d)| a + eps * d).collect();
         if let Err(why) = self.tr.locate_exact(&mut y, &border, target) {
             let why = Stall::NoBranch { omega: b.omega0, cause: Box::new(why) };
-            return self.end_segment(0, SegmentEnd::Stalled(why));
+            return self.end_segment(0, End::Stalled(why));
         }
         let mut t0 = vec![0.0; n + 1];
         self.tr.tangent(&mut t0);
@@ -487,7 +487,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             Ok(y) => y,
             Err(why) => {
                 let why = Stall::NoStart { at: lam0, cause: Box::new(why) };
-                return self.end_segment(seg, SegmentEnd::Stalled(why));
+                return self.end_segment(seg, End::Stalled(why));
             }
         };
         let mut t0 = vec![0.0; n + 1];
@@ -499,7 +499,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         border[n] = dir;
         self.accept(y0, t0, border, 0.0, seg);
         if self.beyond_bound() {
-            return self.end_segment(seg, SegmentEnd::AmplitudeBound);
+            return self.end_segment(seg, End::AmplitudeBound);
         }
         let first = self.nodes.len() - 1;
         self.state = State::Walk { seg, first, h: self.opts.initial_step };
@@ -520,7 +520,7 @@ impl<'m, M: Model> Continuation<'m, M> {
         let last = self.nodes.len() - 1;
         let ended = loop {
             if self.trace.stats.steps >= self.opts.max_steps {
-                break Some(SegmentEnd::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
+                break Some(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
             }
             self.predict(first, h, &mut y, &mut dirv);
             // A prediction beyond the range: land on its end from inside instead of
@@ -537,7 +537,7 @@ impl<'m, M: Model> Continuation<'m, M> {
                     self.trace.stats.rejected_steps += 1;
                     h *= 0.5;
                     if h < min_step {
-                        break Some(SegmentEnd::Stalled(why));
+                        break Some(End::Stalled(why));
                     }
                     continue;
                 }
@@ -559,14 +559,14 @@ impl<'m, M: Model> Continuation<'m, M> {
             // before that step: the step holds the other branch point, where the
             // branch turns in Ω like at a fold but is not one.
             if self.rejoined(&y) {
-                break Some(SegmentEnd::Rejoined);
+                break Some(End::Rejoined);
             }
             if self.nodes[last].t[n] * t[n] < 0.0 {
                 self.locate_fold(last, &dirv, h, t[n]);
             }
             self.accept(y.clone(), t.clone(), dirv.clone(), h, seg);
             if self.beyond_bound() {
-                break Some(SegmentEnd::AmplitudeBound);
+                break Some(End::AmplitudeBound);
             }
             // Far above the reference amplitude (a branch climbing an asymptote) the
             // natural step is relative: let the largest step grow with the response.
@@ -613,14 +613,7 @@ impl<'m, M: Model> Continuation<'m, M> {
 
     /// Land the step that left the range (at `y`, predicted or corrected) on its end
     /// `b` (scaled); how the segment ends.
-    fn land_on_end(
-        &mut self,
-        last: usize,
-        b: f64,
-        y: &[f64],
-        dirv: &[f64],
-        seg: usize,
-    ) -> SegmentEnd {
+    fn land_on_end(&mut self, last: usize, b: f64, y: &[f64], dirv: &[f64], seg: usize) -> End {
         let n = self.tr.n;
         let yl = &self.nodes[last].y;
         let f = (b - yl[n]) / (y[n] - yl[n]);
@@ -634,11 +627,11 @@ impl<'m, M: Model> Continuation<'m, M> {
                 }
                 let hb = dot(dirv, &yb) - dot(dirv, &self.nodes[last].y);
                 self.accept(yb, tb, dirv.to_vec(), hb, seg);
-                SegmentEnd::ReachedEnd
+                End::ReachedEnd
             }
             // The point outside the range is not kept: the curve ends at the last
             // node, inside.
-            Err(why) => SegmentEnd::Stalled(Stall::LandRangeEnd { cause: Box::new(why) }),
+            Err(why) => End::Stalled(Stall::LandRangeEnd { cause: Box::new(why) }),
         }
     }
 

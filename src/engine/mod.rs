@@ -5,7 +5,7 @@
 //! ([`detach`]); above it, [`crate::study`]
 //! and the command line. Nothing here imports either.
 
-use crate::backbone::{Backbone, BackboneEnd, BackboneEvent, BackboneOptions};
+use crate::backbone::{Backbone, BackboneEvent, BackboneOptions, End};
 use crate::balance::Balance;
 use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
 use crate::continuation::{self, Observer, SweepOptions};
@@ -436,7 +436,7 @@ pub fn backbone_overlays(
         let name = output_names.get(sb.output).cloned().unwrap_or_default();
         match &sb.backbone {
             Ok(b) => {
-                if b.ended != BackboneEnd::Reached {
+                if b.ended != End::ReachedAmplitude {
                     warnings.push(format!(
                         "the backbone of mode {} on {name} {} (drawn as far as it went)",
                         sb.mode, b.ended

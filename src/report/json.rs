@@ -149,7 +149,7 @@ pub fn simulate_json(r: &SimRecord) -> Value {
 /// [{points: [{omega, value, outputs: {name: {max_abs}}}], ended}], cusps: [{omega,
 /// value, outputs}]}`, then `range`, `omega_range`, `start_folds`
 /// (folds found by the sweeps at the two ends of the range), `boundary` (`"fold"` or
-/// `"period doubling"`: what the curves follow) and `stats`; each curve
+/// `"period-doubling"`: what the curves follow) and `stats`; each curve
 /// adds `start` (`"from"` or `"to"`: the end its first fold was found at), each cusp
 /// `kind` (`"cusp"`, or `"isola"` where a detached branch joins), `curve` (its
 /// index) and `located`.

@@ -737,7 +737,7 @@ fn folds_follow_period_doubling_on_request() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
-    assert_eq!(v["boundary"], "period doubling");
+    assert_eq!(v["boundary"], "period-doubling");
     let curve =
         v["curves"].as_array().unwrap().iter().find(|c| c["ended"] == "reached end").unwrap();
     let pts = curve["points"].as_array().unwrap();
@@ -962,7 +962,7 @@ fn cycle_families_write_points_and_the_hopf_point() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(v["parameter"], "mu");
-    assert_eq!(v["ended"], "reached the end of the range");
+    assert_eq!(v["ended"], "reached end");
     assert!(v["hopf"]["value"].as_f64().unwrap().abs() < 1e-10, "{}", v["hopf"]);
     assert!((v["hopf"]["omega"].as_f64().unwrap() - 1.0).abs() < 1e-10, "{}", v["hopf"]);
     let points = v["points"].as_array().unwrap();

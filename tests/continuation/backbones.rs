@@ -4,7 +4,7 @@
 //! car (the damped modes of its linearisation, fractional part included).
 
 use crate::elliptic::duffing_omega;
-use ihbm::backbone::{backbone, BackboneEnd, BackboneOptions};
+use ihbm::backbone::{backbone, BackboneOptions, End};
 use ihbm::models::{Duffing, FractionalDuffing, QuarterCar};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -20,7 +20,7 @@ fn the_undamped_duffing_backbone_is_the_elliptic_closed_form() {
     let model = Duffing { c: 0.0, ..Default::default() };
     let opts = BackboneOptions { to: 2.0, harmonics: 21, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     // the start is at max |x| = 2e-4: ω - 1 = O(¾ a²) = 3e-8
     assert!(rel(b.linear.0, 1.0) < 1e-7, "linear frequency {}", b.linear.0);
     let last = b.points.last().unwrap();
@@ -43,7 +43,7 @@ fn the_one_harmonic_fractional_duffing_mode_is_the_epmc_closed_form() {
     let model = FractionalDuffing::default();
     let opts = BackboneOptions { to: 1.5, harmonics: 1, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     let (h, p, c) = (model.h, model.p, model.c);
     let (cp, sp) = ((p * PI / 2.0).cos(), (p * PI / 2.0).sin());
     for pt in &b.points {
@@ -115,7 +115,7 @@ fn the_softening_backbone_matches_the_closed_form_and_stops_at_the_separatrix() 
     let model = Duffing { c: 0.0, k3: -1.0, ..Default::default() };
     let opts = BackboneOptions { to: 2.0, harmonics: 21, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert!(matches!(b.ended, BackboneEnd::Stalled(_)), "{:?}", b.ended);
+    assert!(matches!(b.ended, End::Stalled(_)), "{:?}", b.ended);
     let mut checked = 0;
     for p in b.points.iter().filter(|p| p.outputs[0].max_abs < 0.8) {
         let a = p.outputs[0].max_abs;

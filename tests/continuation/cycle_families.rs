@@ -3,7 +3,7 @@
 //! oscillator with a fractional damper, whose Hopf point is a closed form of `Z(iω)`
 //! and whose cycles near it follow the normal form's square-root law.
 
-use ihbm::backbone::{cycles, FamilyEnd, FamilyOptions};
+use ihbm::backbone::{cycles, End, FamilyOptions};
 use ihbm::models::VanDerPol;
 use ihbm::results::Stability;
 use std::f64::consts::PI;
@@ -45,7 +45,7 @@ fn the_van_der_pol_family_crosses_its_hopf_point_at_mu_zero() {
         ..Default::default()
     };
     let f = cycles(&VanDerPol::default(), &opts).unwrap();
-    assert_eq!(f.ended, FamilyEnd::Reached, "{} points", f.points.len());
+    assert_eq!(f.ended, End::ReachedEnd, "{} points", f.points.len());
     assert!((f.points.last().unwrap().value + 0.5).abs() < 1e-12);
     let h = f.hopf.expect("a Hopf point");
     assert!(h.value.abs() < 1e-10, "μ_H = {:e}", h.value);
@@ -107,7 +107,7 @@ fn a_fractional_self_excited_family_collapses_at_the_closed_form_hopf_point() {
             ..Default::default()
         };
         let f = cycles(&model, &opts).unwrap();
-        assert_eq!(f.ended, FamilyEnd::Collapsed, "h = {h}, p = {p}");
+        assert_eq!(f.ended, End::Collapsed, "h = {h}, p = {p}");
         let hopf = f.hopf.expect("a Hopf point");
         assert!(
             (hopf.value - mu_h).abs() < 1e-10,
@@ -187,7 +187,7 @@ fn an_observer_sees_every_point_and_may_stop_the_family() {
         }
     })
     .unwrap();
-    assert_eq!(f.ended, FamilyEnd::Stopped);
+    assert_eq!(f.ended, End::Stopped);
     assert_eq!(seen, [1, 2, 3, 4]);
     assert_eq!(f.points.len(), 4);
     // the equilibrium is unstable over the whole range covered: no Hopf point there

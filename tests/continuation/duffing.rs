@@ -5,7 +5,7 @@
 
 use ihbm::continuation::{sweep, sweep_param, SweepOptions};
 use ihbm::models::{Duffing, FractionalDuffing};
-use ihbm::results::{BifurcationKind, Curve, Direction, SegmentEnd};
+use ihbm::results::{BifurcationKind, Curve, Direction, End};
 use std::f64::consts::PI;
 
 /// The one-harmonic problem: coefficients of the cubic in s = a².
@@ -102,7 +102,7 @@ fn one_harmonic_opts() -> SweepOptions {
 /// Every point on the equation, folds at its turning points, stability and jumps.
 fn check_curve(curve: &Curve, eq: &OneHarmonic, lo: f64, hi: f64) {
     assert_eq!(curve.segments.len(), 1, "{:?}", curve.segments);
-    assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd);
+    assert_eq!(curve.segments[0].ended, End::ReachedEnd);
     assert!((curve.points.last().unwrap().omega - hi).abs() < 1e-12 * hi);
     assert!((curve.points[0].omega - lo).abs() < 1e-12 * lo);
     let mut worst = 0.0f64;
@@ -211,7 +211,7 @@ fn parameter_continuation_in_force_amplitude() {
     let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
     let curve = sweep_param(&model, "F", 0.01, 1.0, 1.6, &one_harmonic_opts()).unwrap();
     assert_eq!(curve.parameter.name(), "F");
-    assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd);
+    assert_eq!(curve.segments[0].ended, End::ReachedEnd);
     for p in &curve.points {
         let eq = OneHarmonic { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, h: 0.0, p: 0.0, f: p.param };
         let r = eq.residual(1.6, p.coeffs[1].hypot(p.coeffs[2]));
@@ -250,11 +250,7 @@ fn parameter_sweeps_start_where_newton_from_rest_fails() {
     let (w, (m, c, k, k3)) = (1.2, (model.m, model.c, model.k, model.k3));
     let curve = sweep_param(&model, "F", 0.1, 0.5, w, &one_harmonic_opts()).unwrap();
     assert_eq!(curve.segments.len(), 2, "{:?}", curve.segments);
-    assert!(
-        curve.segments.iter().all(|s| s.ended == SegmentEnd::ReachedEnd),
-        "{:?}",
-        curve.segments
-    );
+    assert!(curve.segments.iter().all(|s| s.ended == End::ReachedEnd), "{:?}", curve.segments);
     let amplitude = |p: &ihbm::results::CurvePoint| p.coeffs[1].hypot(p.coeffs[2]);
     for p in &curve.points {
         let eq = OneHarmonic { m, c, k, k3, h: 0.0, p: 0.0, f: p.param };
@@ -269,7 +265,7 @@ fn parameter_sweeps_start_where_newton_from_rest_fails() {
 
     let frac = FractionalDuffing::default();
     let curve = sweep_param(&frac, "p", 0.0, 2.0, 1.0, &one_harmonic_opts()).unwrap();
-    assert_eq!(curve.segments[0].ended, SegmentEnd::ReachedEnd, "{:?}", curve.segments);
+    assert_eq!(curve.segments[0].ended, End::ReachedEnd, "{:?}", curve.segments);
     let (first, last) = (curve.points[0].param, curve.points.last().unwrap().param);
     assert_eq!((first, last), (0.0, 2.0));
     for p in &curve.points {
@@ -354,7 +350,7 @@ fn stepping_gives_the_sweep_and_a_stop_keeps_a_prefix() {
     assert_eq!(part.folds.len(), 1);
     assert_eq!(part.folds[0], whole.folds[0]);
     assert_eq!(part.points[..], whole.points[..part.points.len()]);
-    assert_eq!(part.segments.last().map(|s| &s.ended), Some(&SegmentEnd::Stopped));
+    assert_eq!(part.segments.last().map(|s| &s.ended), Some(&End::Stopped));
     let expected = eq.folds(0.5, 2.5);
     let upper = expected.iter().cloned().fold(f64::MIN, f64::max);
     assert!((part.folds[0].omega - upper).abs() < 1e-8 * upper, "{:?} vs {upper}", part.folds[0]);

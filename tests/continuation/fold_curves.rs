@@ -1,7 +1,7 @@
 //! Fold curves and cusps (two-parameter continuation) against closed forms, against
 //! ordinary sweeps and against an exact scaling law.
 
-use ihbm::bifurcation::{fold_curves, CurveEnd, FoldCurveOptions, FoldCurves};
+use ihbm::bifurcation::{fold_curves, End, FoldCurveOptions, FoldCurves};
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{Duffing, QuarterCar};
 use ihbm::Model;
@@ -49,7 +49,7 @@ fn the_duffing_cusp_is_the_triple_root_of_the_amplitude_equation() {
         "{:?}",
         res.curves.iter().map(|c| &c.ended).collect::<Vec<_>>()
     );
-    assert_eq!(res.curves[0].ended, CurveEnd::ReachedEnd);
+    assert_eq!(res.curves[0].ended, End::ReachedEnd);
 }
 
 #[test]
@@ -204,5 +204,5 @@ fn stepping_the_fold_analysis_gives_fold_curves_and_a_stop_keeps_a_prefix() {
     assert_eq!(part.curves[..c], whole.curves[..c]);
     let (p, w) = (&part.curves[c].points, &whole.curves[c].points);
     assert_eq!(p[..], w[..p.len()]);
-    assert_eq!(part.curves[c].ended, CurveEnd::Stopped);
+    assert_eq!(part.curves[c].ended, End::Stopped);
 }

@@ -10,7 +10,7 @@
 //! computed peak must be within `2 ζ_b²` of the backbone — and, as a check that the
 //! comparison means something, far from the linear natural frequency.
 
-use ihbm::backbone::{backbone, BackboneEnd, BackboneOptions};
+use ihbm::backbone::{backbone, BackboneOptions, End};
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::Duffing;
 
@@ -46,7 +46,7 @@ fn the_peak_of_a_lightly_damped_duffing_sweep_lies_on_its_backbone() {
         curve.points.iter().map(|p| (p.omega, p.outputs[0].max_abs)).collect();
     let (wp, ap) = peak(&pts);
     let b = backbone(&model, &BackboneOptions { to: ap, harmonics, ..Default::default() }).unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     let wb = b.points.last().unwrap().omega;
     let zeta = model.c / (2.0 * wb);
     let dev = wp / wb - 1.0;

@@ -4,7 +4,7 @@
 //! ω = 1.1, well inside the first mode's stiffening from 1 to 1.32 at max |x1| = 1).
 
 use crate::elliptic::duffing_omega;
-use ihbm::backbone::{backbone, BackboneEnd, BackboneOptions, EventKind};
+use ihbm::backbone::{backbone, BackboneOptions, End, EventKind};
 
 ihbm::oscillator! {
     /// x1'' + x1 + k3 x1³ + e (x1 - x2) = 0, x2'' + w2² x2 + e (x2 - x1) = 0.
@@ -53,7 +53,7 @@ fn the_third_harmonic_meeting_the_second_mode_is_flagged_at_the_closed_form_ampl
     let model = ThreeToOne::default();
     let opts = BackboneOptions { to: 1.0, harmonics: 9, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     // odd harmonics only (a symmetric model): 3ω = w2 is the one crossing on the way
     let [ev] = b.events.as_slice() else { panic!("one event: {:?}", b.events) };
     assert_eq!(ev.kind, EventKind::InternalResonance { mode: 2, ratio: 3 });
@@ -85,7 +85,7 @@ fn a_coupled_backbone_is_followed_through_its_three_to_one_resonance() {
     let model = ThreeToOne { e: 0.05, k3b: 1.0, ..Default::default() };
     let opts = BackboneOptions { to: 1.0, harmonics: 9, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     let (e, w2) = (model.e, model.w2);
     let w2_lin =
         (0.5 * (1.0 + w2 * w2 + 2.0 * e + ((w2 * w2 - 1.0).powi(2) + 4.0 * e * e).sqrt())).sqrt();
@@ -110,7 +110,7 @@ fn turns_in_amplitude_are_flagged_and_followed() {
     let model = ThreeToOne { e: 0.05, ..Default::default() };
     let opts = BackboneOptions { to: 1.0, harmonics: 9, max_steps: 700, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert!(matches!(b.ended, BackboneEnd::Stalled(_)), "{:?}", b.ended);
+    assert!(matches!(b.ended, End::Stalled(_)), "{:?}", b.ended);
     let turns: Vec<_> = b.events.iter().filter(|e| e.kind == EventKind::Turn).collect();
     assert!(turns.len() >= 2, "{:?}", b.events);
     let amp = |i: usize| b.points[i].outputs[0].max_abs;
@@ -157,7 +157,7 @@ fn a_stepped_backbone_is_the_backbone_and_a_stop_keeps_what_was_traced() {
     let mut run = BackboneContinuation::new(&model, &opts).unwrap();
     while run.step() != BackboneEvent::Point(stop_at) {}
     let part = run.finish();
-    assert_eq!(part.ended, BackboneEnd::Stopped);
+    assert_eq!(part.ended, End::Stopped);
     assert_eq!(part.points, whole.points[..=stop_at]);
     let before: Vec<_> = whole.events.iter().filter(|e| e.after < stop_at).cloned().collect();
     assert_eq!(part.events, before);

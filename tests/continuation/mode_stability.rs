@@ -2,7 +2,7 @@
 //! exponents against the Floquet multipliers of the variational equations integrated
 //! by RK4 over one period; where ξ ≠ 0 no verdict.
 
-use ihbm::backbone::{backbone, BackboneEnd, BackboneOptions, ModePoint};
+use ihbm::backbone::{backbone, BackboneOptions, End, ModePoint};
 use ihbm::models::{Duffing, QuarterCar};
 use ihbm::results::{Stability, Unknown};
 use num_complex::Complex64;
@@ -100,7 +100,7 @@ fn the_undamped_duffing_backbone_is_neutrally_stable() {
     let nh = 15;
     let b = backbone(&model, &BackboneOptions { to: 1.5, harmonics: nh, ..Default::default() })
         .unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     let mut checked = 0;
     for p in b.points.iter().step_by(4).chain(b.points.last()) {
         assert_eq!(p.stability, Stability::Stable, "ω = {}: {:?}", p.omega, p.exponents);
@@ -133,7 +133,7 @@ fn a_conservative_two_dof_backbone_has_the_multipliers_of_the_variational_equati
     let nh = 15;
     let opts = BackboneOptions { to: 1.0, harmonics: nh, ..Default::default() };
     let b = backbone(&model, &opts).unwrap();
-    assert_eq!(b.ended, BackboneEnd::Reached);
+    assert_eq!(b.ended, End::ReachedAmplitude);
     let (k3, w2, e) = (model.k3, model.w2, model.e);
     let mut checked = 0;
     for p in b.points.iter().step_by(5).chain(b.points.last()) {

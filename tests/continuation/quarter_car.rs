@@ -4,7 +4,7 @@
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::corrector::{output_summaries, solve, SolveOptions};
 use ihbm::models::QuarterCar;
-use ihbm::results::{Curve, Direction, SegmentEnd};
+use ihbm::results::{Curve, Direction, End};
 use ihbm::Model;
 
 fn car(sets: &[(&str, f64)]) -> QuarterCar {
@@ -18,7 +18,7 @@ fn car(sets: &[(&str, f64)]) -> QuarterCar {
 /// The curve covers 1..100 rad/s in one piece and every point solves the balance.
 fn check_whole(c: &Curve, what: &str, model: &QuarterCar) {
     assert_eq!(c.segments.len(), 1, "{what}: {:?}", c.segments);
-    assert_eq!(c.segments[0].ended, SegmentEnd::ReachedEnd, "{what}");
+    assert_eq!(c.segments[0].ended, End::ReachedEnd, "{what}");
     assert_eq!(c.points[0].omega, 1.0, "{what}");
     assert!((c.points.last().unwrap().omega - 100.0).abs() < 1e-9, "{what}");
     // Independent of the continuation: each point is a harmonic balance solution.
@@ -136,11 +136,11 @@ fn runaway_branch_stops_at_bound_and_resumes_from_the_other_end() {
     let model = car(&[("F", 0.05), ("k3", 5e6)]);
     let c = sweep(&model, 1.0, 100.0, &SweepOptions::default()).unwrap();
     assert_eq!(c.segments.len(), 2, "{:?}", c.segments);
-    assert_eq!(c.segments[0].ended, SegmentEnd::AmplitudeBound);
+    assert_eq!(c.segments[0].ended, End::AmplitudeBound);
     assert_eq!(c.segments[1].from, 100.0);
     let locked = (model.kt / (model.m1 + model.m2)).sqrt();
     for s in &c.segments {
-        if s.ended == SegmentEnd::AmplitudeBound {
+        if s.ended == End::AmplitudeBound {
             assert!((s.to - locked).abs() < 0.02 * locked, "{s:?} vs {locked}");
         }
     }

@@ -5,7 +5,7 @@
 //! exponents, the curves solve for a singular bordered `T(iω)`).
 
 use ihbm::balance::Balance;
-use ihbm::bifurcation::{fold_curves, Boundary, CurveEnd, FoldCurveOptions, FoldCurves};
+use ihbm::bifurcation::{fold_curves, Boundary, End, FoldCurveOptions, FoldCurves};
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::QuarterCar;
 use ihbm::results::BifurcationKind;
@@ -62,7 +62,7 @@ fn the_torus_bubble_closes_at_a_least_road_amplitude() {
     assert_eq!(res.start_folds.0, 2, "{:?}", res.curves);
     assert_eq!(res.curves.len(), 1, "the second start is the first curve's end");
     let c = &res.curves[0];
-    assert_eq!(c.ended, CurveEnd::ReachedEnd);
+    assert_eq!(c.ended, End::ReachedEnd);
     assert_eq!(res.cusps.len(), 1);
     let turn = &res.cusps[0];
     assert!(turn.located);

@@ -305,7 +305,7 @@ ihbm::oscillator! {
 /// traced.
 #[test]
 fn a_fold_curve_stops_at_an_undefined_coefficient_naming_it() {
-    use ihbm::bifurcation::{fold_curves, CurveEnd, FoldCurveOptions};
+    use ihbm::bifurcation::{fold_curves, End, FoldCurveOptions};
     let model = ForcingGap::default();
     let mut opts = FoldCurveOptions::default();
     opts.sweep.harmonics = 1;
@@ -314,7 +314,7 @@ fn a_fold_curve_stops_at_an_undefined_coefficient_naming_it() {
     let res = fold_curves(&model, f, 0.3, 0.01, &opts).unwrap();
     let c = res.curves.iter().find(|c| c.start == ihbm::bifurcation::RangeEnd::From).unwrap();
     assert!(c.points.len() > 3, "{:?}", c.ended);
-    let CurveEnd::Stalled(why) = &c.ended else { panic!("{:?}", c.ended) };
+    let End::Stalled(why) = &c.ended else { panic!("{:?}", c.ended) };
     let why = why.to_string();
     assert!(why.contains("sqrt") && why.contains("NaN"), "{why}");
     assert!(c.points.iter().all(|p| p.value >= 0.11 - 1e-9), "no point inside the gap");

@@ -5,8 +5,8 @@ use ihbm::report::{
     curve_csv, curve_facts, figure_svg, sweep_json, Figure, FreqUnit, Panel, Series, TimeMarker,
 };
 use ihbm::results::{
-    Curve, CurvePoint, CurveStats, Direction, Fold, Jump, Parameter, PointOutput, Segment,
-    SegmentEnd, Stability,
+    Curve, CurvePoint, CurveStats, Direction, End, Fold, Jump, Parameter, PointOutput, Segment,
+    Stability,
 };
 use num_complex::Complex64;
 
@@ -46,7 +46,7 @@ fn linear_curve(f: f64) -> Curve {
         stability_checked: true,
         folds: vec![],
         jumps: vec![],
-        segments: vec![Segment { from: 1.0, to: 100.0, ended: SegmentEnd::ReachedEnd }],
+        segments: vec![Segment { from: 1.0, to: 100.0, ended: End::ReachedEnd }],
         stats: CurveStats::default(),
         bifurcations: vec![],
         convergence: None,
@@ -95,7 +95,7 @@ fn s_curve() -> Curve {
             from: s1,
             to: 0.9,
         }],
-        segments: vec![Segment { from: omega(0.0), to: omega(1.0), ended: SegmentEnd::ReachedEnd }],
+        segments: vec![Segment { from: omega(0.0), to: omega(1.0), ended: End::ReachedEnd }],
         stats: CurveStats { folds: 2, ..CurveStats::default() },
         bifurcations: vec![],
         convergence: None,

@@ -3,7 +3,7 @@
 //! curve has three solutions (between the two folds of one hysteresis) shaded.
 
 use super::{plot_err, COLORS};
-use crate::bifurcation::{CurveEnd, FoldCurve, FoldCurves, TurnKind};
+use crate::bifurcation::{End, FoldCurve, FoldCurves, TurnKind};
 use crate::error::Error;
 use plotters::prelude::*;
 
@@ -196,7 +196,7 @@ fn regions(f: &FoldCurves) -> Vec<Vec<(f64, f64)>> {
     let ends =
         |c: &FoldCurve| c.points.first().zip(c.points.last()).map(|(p, q)| (p.value, q.value));
     let crossed =
-        |c: &FoldCurve| c.ended == CurveEnd::ReachedEnd && ends(c).is_some_and(|(a, b)| a != b);
+        |c: &FoldCurve| c.ended == End::ReachedEnd && ends(c).is_some_and(|(a, b)| a != b);
     for (i, c) in f.curves.iter().enumerate() {
         if c.start_fold % 2 != 0 || !crossed(c) {
             continue;
