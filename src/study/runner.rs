@@ -3,7 +3,7 @@
 
 use super::claims::{fmt_num, Member, TdRow};
 use super::outcome::StudyOutcome;
-use super::spec::{BackboneSpec, Study};
+use super::spec::{BackboneSpec, Study, Vary};
 use super::summary::{self, FigureResult, FoldMember};
 use crate::bifurcation::{FoldCurves, FoldEvent};
 use crate::continuation::Control;
@@ -129,15 +129,15 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
                     let mut m = model.clone();
                     let mut n = harmonics;
                     let name = v.get_ref().as_str();
-                    if name == "harmonics" {
-                        n = x as usize;
-                    } else {
-                        m.set_param(name, x)?;
-                    }
-                    let label = if name == "harmonics" {
-                        format!("N = {n}")
-                    } else {
-                        format!("{name} = {}", fmt_num(x))
+                    let label = match v.get_ref() {
+                        Vary::Harmonics => {
+                            n = x as usize;
+                            format!("N = {n}")
+                        }
+                        Vary::Param(name) => {
+                            m.set_param(name, x)?;
+                            format!("{name} = {}", fmt_num(x))
+                        }
                     };
                     curves.push(CurvePlan {
                         label,
@@ -842,7 +842,7 @@ fn write_fold_figure<'a>(
             folds.iter().map(|m| (m.label.as_str(), m.folds)).collect();
         let svg = report::folds_svg_family(&series, &p.title);
         write_svg(dir, format!("{}.svg", p.id), svg, &p.id, out);
-        let vary = study.figures[f].vary.as_ref().map(|v| v.get_ref().clone());
+        let vary = study.figures[f].vary.as_ref().map(|v| v.get_ref().to_string());
         if let (Some(vary), true) = (vary, p.curves.len() > 1) {
             let param = p.folds.as_ref().map_or("", |x| x.0.as_str());
             let title = format!("{}: the onset in {param} against {vary}", p.title);

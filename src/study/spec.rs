@@ -157,8 +157,8 @@ pub struct FigureSpec {
     pub title: Option<String>,
     /// The paper's qualitative claim, quoted in `summary.md`.
     pub claim: Option<String>,
-    /// The parameter varied over `values`, or `"harmonics"`.
-    pub vary: Option<Spanned<String>>,
+    /// What is varied over `values`: a parameter, or `"harmonics"` (N).
+    pub vary: Option<Spanned<Vary>>,
     /// Values of `vary`, one curve each.
     #[serde(default)]
     pub values: Vec<f64>,
@@ -189,6 +189,40 @@ pub struct FigureSpec {
     /// Claims checked against the results.
     #[serde(default, rename = "check")]
     pub checks: Vec<CheckSpec>,
+}
+
+/// What a figure varies over its `values`, one curve each: `vary = "harmonics"` (the
+/// number of harmonics N, a convergence study) or any other name (that model
+/// parameter).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Vary {
+    /// The number of harmonics N.
+    Harmonics,
+    /// A model parameter, by name.
+    Param(String),
+}
+
+impl Vary {
+    /// As the study file spells it: `"harmonics"` or the parameter's name.
+    pub fn as_str(&self) -> &str {
+        match self {
+            Vary::Harmonics => "harmonics",
+            Vary::Param(name) => name,
+        }
+    }
+}
+
+impl std::fmt::Display for Vary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for Vary {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Ok(if name == "harmonics" { Vary::Harmonics } else { Vary::Param(name) })
+    }
 }
 
 /// Which backbones a figure draws: `backbone = true` (every mode whose linear
@@ -630,20 +664,23 @@ impl Study {
                         ));
                     }
                     for &x in &fig.values {
-                        if v.get_ref() == "harmonics" {
-                            if !(x >= 1.0 && x.fract() == 0.0 && x <= 1000.0) {
-                                return Err(self.at(
-                                    v.span(),
-                                    format!(
-                                        "figure '{id}': harmonics value {x} is not an integer >= 1"
-                                    ),
-                                ));
+                        match v.get_ref() {
+                            Vary::Harmonics => {
+                                if !(x >= 1.0 && x.fract() == 0.0 && x <= 1000.0) {
+                                    return Err(self.at(
+                                        v.span(),
+                                        format!(
+                                            "figure '{id}': harmonics value {x} is not an integer >= 1"
+                                        ),
+                                    ));
+                                }
                             }
-                        } else {
-                            let mut mv = m.clone();
-                            mv.set_param(v.get_ref(), x)
-                                .and_then(|_| mv.validate())
-                                .map_err(|e| self.at(v.span(), format!("figure '{id}': {e}")))?;
+                            Vary::Param(name) => {
+                                let mut mv = m.clone();
+                                mv.set_param(name, x).and_then(|_| mv.validate()).map_err(|e| {
+                                    self.at(v.span(), format!("figure '{id}': {e}"))
+                                })?;
+                            }
                         }
                     }
                 }
@@ -828,7 +865,7 @@ impl Study {
                 .map_err(|e| self.at_path(path, format!("figure '{id}': {e}")))
         };
         match &fig.vary {
-            Some(v) if v.get_ref() == "harmonics" => {
+            Some(v) if *v.get_ref() == Vary::Harmonics => {
                 for &x in &fig.values {
                     fits(x as usize, &fig_key(f, "vary"))?;
                 }
