@@ -22,6 +22,7 @@
 //! family stays regular down to the Hopf point, where q → 0.
 
 use crate::balance::Balance;
+use crate::continuation::path::Extended;
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::linalg::DenseLu;
 use crate::model::Model;
@@ -277,5 +278,21 @@ impl<'m, M: Model> Epmc<'m, M> {
     pub fn tangent(&mut self) -> Vec<f64> {
         let d = self.dim();
         unit_tangent(&mut self.lu, d)
+    }
+}
+
+impl<M: Model> Extended for Epmc<'_, M> {
+    fn correct(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+        budget: usize,
+    ) -> Result<usize, Stall> {
+        Epmc::correct(self, y, border, target, budget)
+    }
+
+    fn tangent(&mut self) -> Vec<f64> {
+        Epmc::tangent(self)
     }
 }

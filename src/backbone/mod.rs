@@ -40,7 +40,8 @@ mod hopf;
 mod stability;
 
 use crate::balance::Balance;
-use crate::continuation::tracer::{dot, LOCATE_ITER};
+use crate::continuation::path::{self, Advance, Orientation, Stepped};
+use crate::continuation::tracer::LOCATE_ITER;
 use crate::continuation::{Control, Observer, StepSize};
 use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
@@ -475,15 +476,6 @@ fn system<'m, M: Model>(
     Ok((sys, lm, mass))
 }
 
-/// One accepted pseudo-arclength step of a [`Tracer`].
-struct Stepped {
-    point: Vec<f64>,
-    tangent: Vec<f64>,
-    iterations: usize,
-    /// The turn of the tangent from the step's start, radians.
-    turn: f64,
-}
-
 struct Tracer<'m, M: Model> {
     sys: Epmc<'m, M>,
     eval: OutputEval,
@@ -619,36 +611,29 @@ impl<M: Model> Tracer<'_, M> {
         size(h) > 1e-9 * size(1)
     }
 
-    /// One pseudo-arclength step from `y` along `t`: the corrected point, its tangent
-    /// (oriented along `t`), the Newton iterations and the turn of the tangent; the
-    /// step is halved on a failure or on a turn the step size rejects, and the
-    /// corrector's reason is returned below the smallest step. Nothing is recorded:
-    /// the caller accepts the point (and then calls [`Tracer::adapt`]) or not.
+    /// One pseudo-arclength step from `y` along `t` ([`path::advance`]): the
+    /// corrected point, its tangent (oriented along `t`), the Newton iterations and
+    /// the turn of the tangent, or the corrector's reason below the smallest step.
+    /// Nothing is recorded: the caller accepts the point (and then calls
+    /// [`Tracer::adapt`]) or not.
     fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<Stepped, Stall> {
-        loop {
-            let h = self.h;
-            let mut z: Vec<f64> = y.iter().zip(t.iter()).map(|(a, b)| a + h * b).collect();
-            let target = dot(t, y) + h;
-            let iterations = match self.sys.correct(&mut z, t, target, self.opts.max_iter) {
-                Ok(it) => it,
-                Err(why) => {
-                    self.h *= 0.5;
-                    if self.h < self.opts.min_step {
-                        return Err(why);
-                    }
-                    continue;
-                }
-            };
-            let mut tn = self.sys.tangent();
-            if dot(&tn, t) < 0.0 {
-                tn.iter_mut().for_each(|v| *v = -*v);
-            }
-            let turn = dot(&tn, t).clamp(-1.0, 1.0).acos();
-            if self.step_size().rejects_turn(turn, h) {
-                self.h *= 0.5;
-                continue;
-            }
-            return Ok(Stepped { point: z, tangent: tn, iterations, turn });
+        let (size, budget) = (self.step_size(), self.opts.max_iter);
+        let mut rejected = 0;
+        let never = |_: &[f64]| None::<std::convert::Infallible>;
+        match path::advance(
+            &mut self.sys,
+            y,
+            t,
+            &mut self.h,
+            &size,
+            budget,
+            Orientation::AlongLast,
+            &mut rejected,
+            never,
+        ) {
+            Advance::Accepted(s) => Ok(s),
+            Advance::Stalled(why) => Err(why),
+            Advance::Left { at, .. } => match at {},
         }
     }
 

@@ -17,6 +17,7 @@ const EASY: usize = 2;
 /// car and the Duffing oscillator, 0.12 where a detached branch joins the quarter
 /// car's curve).
 const CUSP_OMEGA_TANGENT: f64 = 1e-6;
+use crate::continuation::path::{self, Advance, Orientation};
 use crate::continuation::tracer::{dot, LOCATE_ITER};
 
 /// How close (relative to Ω) a torus frequency may come to 0 or Ω/2 before the
@@ -123,36 +124,9 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         [(w0 / s.so, w1 / s.so), (u0.min(u1), u0.max(u1))]
     }
 
-    /// The bound the step from the last node to `y` crosses first, as (component,
-    /// bound value): where a curve leaves through a corner of the (Ω, P) box, the
-    /// other bound is crossed later and landing on it would leave the box.
+    /// The bound the step from the last node to `y` crosses first ([`crossing`]).
     fn beyond(&self, y: &[f64]) -> Option<(usize, f64)> {
-        let n = self.sys.n;
-        let from = self.nodes.last().map(|nd| &nd.y);
-        let mut first: Option<(f64, usize, f64)> = None;
-        for (k, (lo, hi)) in self.bounds().into_iter().enumerate() {
-            let v = y[n + k];
-            let b = if v > hi {
-                hi
-            } else if v < lo {
-                lo
-            } else {
-                continue;
-            };
-            // the fraction of the step at which it crosses
-            let f = from.map_or(1.0, |y0| {
-                let d = v - y0[n + k];
-                if d != 0.0 {
-                    (b - y0[n + k]) / d
-                } else {
-                    1.0
-                }
-            });
-            if first.is_none_or(|(g, _, _)| f < g) {
-                first = Some((f, n + k, b));
-            }
-        }
-        first.map(|(_, k, b)| (k, b))
+        crossing(&self.bounds(), self.sys.n, self.nodes.last().map(|nd| nd.y.as_slice()), y)
     }
 
     /// One step: a point accepted, or the end of the curve.
@@ -168,59 +142,53 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
     }
 
     fn attempt(&mut self) -> Step {
+        if self.steps >= self.opts.max_steps {
+            return Step::Ended(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
+        }
         let n = self.sys.n;
         let last = self.nodes.len() - 1;
         let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
-        loop {
-            if self.steps >= self.opts.max_steps {
-                return Step::Ended(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
-            }
-            let h = self.h;
-            let mut y: Vec<f64> = y0.iter().zip(&t0).map(|(a, t)| a + h * t).collect();
-            if let Some((k, b)) = self.beyond(&y) {
+        let (size, bounds) = (self.opts.step_size(EASY), self.bounds());
+        let leaves = |y: &[f64]| crossing(&bounds, n, Some(&y0), y);
+        let s = match path::advance(
+            &mut self.sys,
+            &y0,
+            &t0,
+            &mut self.h,
+            &size,
+            self.opts.max_iter,
+            Orientation::AsGiven,
+            &mut self.rejected,
+            leaves,
+        ) {
+            Advance::Accepted(s) => s,
+            Advance::Left { at: (k, b), point } => {
                 self.steps += 1;
-                return self.land(k, b, &y);
+                return self.land(k, b, &point);
             }
-            let target = dot(&t0, &y0) + h;
-            let it = match self.sys.correct(&mut y, &t0, target, self.opts.max_iter) {
-                Ok(it) => it,
-                Err(why) => {
-                    self.rejected += 1;
-                    self.h *= 0.5;
-                    if self.h < self.opts.min_step {
-                        return Step::Ended(End::Stalled(why));
-                    }
-                    continue;
-                }
-            };
-            let t = self.sys.tangent();
-            let angle = dot(&t0, &t).clamp(-1.0, 1.0).acos();
-            if self.opts.step_size(EASY).rejects_turn(angle, h) {
-                self.rejected += 1;
-                self.h *= 0.5;
-                continue;
-            }
-            self.steps += 1;
-            if let Some((k, b)) = self.beyond(&y) {
-                return self.land(k, b, &y);
-            }
-            let cusp =
-                if t0[n + 1] * t[n + 1] < 0.0 { Some(self.locate_cusp(h, t[n + 1])) } else { None };
-            self.sys.renew_borders();
-            self.accept(y, t);
-            let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
-            self.h = self.opts.step_size(EASY).after(h, it, angle, amp);
-            if self.closed() {
-                return Step::Ended(End::Closed);
-            }
-            if self.beyond_bound() {
-                return Step::Ended(End::AmplitudeBound);
-            }
-            if self.resonant() {
-                return Step::Ended(End::StrongResonance);
-            }
-            return Step::Point(cusp);
+            Advance::Stalled(why) => return Step::Ended(End::Stalled(why)),
+        };
+        self.steps += 1;
+        if let Some((k, b)) = self.beyond(&s.point) {
+            return self.land(k, b, &s.point);
         }
+        let (y, t) = (s.point, s.tangent);
+        let cusp =
+            if t0[n + 1] * t[n + 1] < 0.0 { Some(self.locate_cusp(s.h, t[n + 1])) } else { None };
+        self.sys.renew_borders();
+        self.accept(y, t);
+        let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        self.h = size.after(s.h, s.iterations, s.turn, amp);
+        if self.closed() {
+            return Step::Ended(End::Closed);
+        }
+        if self.beyond_bound() {
+            return Step::Ended(End::AmplitudeBound);
+        }
+        if self.resonant() {
+            return Step::Ended(End::StrongResonance);
+        }
+        Step::Point(cusp)
     }
 
     /// The last point's response beyond the amplitude bound: relative to the first
@@ -345,4 +313,40 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
             located,
         }
     }
+}
+
+/// The bound of the scaled Ω and parameter unknowns (`y[n]`, `y[n + 1]`, within
+/// `bounds`) the step from `from` to `y` crosses first, as (component, bound value):
+/// where a curve leaves through a corner of the (Ω, P) box, the other bound is
+/// crossed later and landing on it would leave the box.
+fn crossing(
+    bounds: &[(f64, f64); 2],
+    n: usize,
+    from: Option<&[f64]>,
+    y: &[f64],
+) -> Option<(usize, f64)> {
+    let mut first: Option<(f64, usize, f64)> = None;
+    for (k, &(lo, hi)) in bounds.iter().enumerate() {
+        let v = y[n + k];
+        let b = if v > hi {
+            hi
+        } else if v < lo {
+            lo
+        } else {
+            continue;
+        };
+        // the fraction of the step at which it crosses
+        let f = from.map_or(1.0, |y0| {
+            let d = v - y0[n + k];
+            if d != 0.0 {
+                (b - y0[n + k]) / d
+            } else {
+                1.0
+            }
+        });
+        if first.is_none_or(|(g, _, _)| f < g) {
+            first = Some((f, n + k, b));
+        }
+    }
+    first.map(|(_, k, b)| (k, b))
 }

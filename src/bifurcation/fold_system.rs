@@ -24,6 +24,7 @@
 use super::period_two::{embedding, odd_harmonics};
 use super::torus::TorusTest;
 use crate::balance::{Balance, BilinearWork};
+use crate::continuation::path::Extended;
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::error::{Matrix, Quantity};
 use crate::linalg::DenseLu;
@@ -592,5 +593,21 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         self.c = v;
         self.b = w;
         Ok(())
+    }
+}
+
+impl<M: Model> Extended for FoldSystem<'_, M> {
+    fn correct(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+        budget: usize,
+    ) -> Result<usize, Stall> {
+        FoldSystem::correct(self, y, border, target, budget)
+    }
+
+    fn tangent(&mut self) -> Vec<f64> {
+        FoldSystem::tangent(self)
     }
 }

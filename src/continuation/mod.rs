@@ -47,6 +47,7 @@ mod convergence;
 mod events;
 mod jumps;
 mod locate;
+pub(crate) mod path;
 mod step_size;
 mod stepper;
 pub(crate) mod tracer;
