@@ -234,6 +234,21 @@ where
     }
 }
 
+/// [`stoppable`] for a computation with nothing to keep part way (a solve, a time
+/// integration, one limit cycle): Ctrl-C raises `KeyboardInterrupt` within a fraction
+/// of a second instead of when the computation is done (it is left to finish on its
+/// own thread, and its result is dropped).
+fn interruptible<R, F>(py: Python<'_>, work: F) -> PyResult<R>
+where
+    R: Send + 'static,
+    F: FnOnce() -> ihbm::Result<R> + Send + 'static,
+{
+    match stoppable(py, None, move |_, _| work(), || None)? {
+        (r, None) => Ok(r),
+        (_, Some(stopped_by)) => Err(PyErr::from_value(stopped_by.into_bound(py))),
+    }
+}
+
 /// [`stoppable`] for an analysis whose observer sees the whole result so far (fold
 /// curves, a backbone, a family of limit cycles): `progress` gives the points and
 /// the value shown, and what is kept after an abandoned run is its last event's copy.
@@ -398,7 +413,7 @@ impl NativeModel {
         set: Vec<(String, f64)>,
     ) -> PyResult<String> {
         let m = self.configured(&set)?;
-        let rec = py.detach(|| m.solve(omega, &SolveSettings { harmonics })).map_err(py_err)?;
+        let rec = interruptible(py, move || m.solve(omega, &SolveSettings { harmonics }))?;
         Ok(json_text(&report::solve_json(&rec)))
     }
 
@@ -470,7 +485,7 @@ impl NativeModel {
             Some(s) => keyword(s, "scheme")?,
         };
         let s = SimSettings { dt, periods: periods.unwrap_or(defaults.periods), scheme };
-        let rec = py.detach(|| m.simulate(omega, &s)).map_err(py_err)?;
+        let rec = interruptible(py, move || m.simulate(omega, &s))?;
         Ok(json_text(&report::simulate_json(&rec)))
     }
 
@@ -551,7 +566,7 @@ impl NativeModel {
         set: Vec<(String, f64)>,
     ) -> PyResult<String> {
         let m = self.configured(&set)?;
-        let c = py.detach(|| m.cycle(omega, harmonics)).map_err(py_err)?;
+        let c = interruptible(py, move || m.cycle(omega, harmonics))?;
         Ok(json_text(&report::cycle_json(&c)))
     }
 

@@ -403,3 +403,22 @@ def test_ctrl_c_stops_a_backbone_keeping_its_points_on_the_closed_form():
         k = math.pi / (2 * agm(1.0, math.sqrt(1 - mm)))
         exact = math.pi * math.sqrt(1 + a * a) / (2 * k)
         assert abs(pt["omega"] - exact) < 1e-9 * exact
+
+
+def test_ctrl_c_interrupts_a_long_time_integration_within_a_second():
+    # 20 000 forcing periods take seconds; the call answers the interrupt at once
+    # (the integration is left to finish on its own thread, its result dropped).
+    m = ihbm.Model.builtin("fractional-duffing")
+
+    def press_ctrl_c():
+        time.sleep(0.3)
+        _thread.interrupt_main()
+
+    presser = threading.Thread(target=press_ctrl_c)
+    start = time.monotonic()
+    presser.start()
+    with pytest.raises(KeyboardInterrupt):
+        m.simulate(1.0, periods=20000)
+    waited = time.monotonic() - start
+    presser.join()
+    assert waited < 2.0, f"answered after {waited:.2f} s"
