@@ -292,7 +292,7 @@ impl<M: Model> Extended for Epmc<'_, M> {
         Epmc::correct(self, y, border, target, budget)
     }
 
-    fn tangent(&mut self) -> Vec<f64> {
-        Epmc::tangent(self)
+    fn tangent(&mut self, t: &mut [f64]) {
+        t.copy_from_slice(&Epmc::tangent(self));
     }
 }

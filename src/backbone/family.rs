@@ -372,11 +372,11 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
         if self.res.points.len() >= max_steps {
             return Some(End::Stalled(Stall::StepLimit { steps: max_steps }));
         }
-        let step = match self.tracer.advance(&self.y, &self.t) {
+        let (step, point, tangent) = match self.tracer.advance(&self.y, &self.t) {
             Ok(x) => x,
             Err(why) => return Some(End::Stalled(why)),
         };
-        let z = &step.point;
+        let z = &point;
         let dir = (to - self.opts.from).signum();
         if (self.tracer.sys.param(z) - to) * dir >= 0.0 {
             // land on P = to between y and z
@@ -408,7 +408,7 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
             return Some(End::Collapsed);
         }
         self.tracer.adapt(&step);
-        (self.y, self.t) = (step.point, step.tangent);
+        (self.y, self.t) = (point, tangent);
         None
     }
 

@@ -529,11 +529,11 @@ impl<M: Model> Tracer<'_, M> {
                 },
             }));
         }
-        let step = match self.advance(y, t) {
+        let (step, point, tangent) = match self.advance(y, t) {
             Ok(x) => x,
             Err(why) => return Some(End::Stalled(why)),
         };
-        let z = step.point.clone();
+        let z = point.clone();
         let p = self.point(&z);
         match self.goal {
             Goal::Amplitude(to) if self.amplitude(&p) >= to => {
@@ -554,8 +554,8 @@ impl<M: Model> Tracer<'_, M> {
         }
         self.push(res, p);
         self.adapt(&step);
-        *y = step.point;
-        *t = step.tangent;
+        *y = point;
+        *t = tangent;
         None
     }
 
@@ -616,24 +616,25 @@ impl<M: Model> Tracer<'_, M> {
     /// the turn of the tangent, or the corrector's reason below the smallest step.
     /// Nothing is recorded: the caller accepts the point (and then calls
     /// [`Tracer::adapt`]) or not.
-    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<Stepped, Stall> {
+    fn advance(&mut self, y: &[f64], t: &[f64]) -> Result<(Stepped, Vec<f64>, Vec<f64>), Stall> {
         let (size, budget) = (self.step_size(), self.opts.max_iter);
         let mut rejected = 0;
         let never = |_: &[f64]| None::<std::convert::Infallible>;
+        let along = Orientation::AlongLast;
         match path::advance(
             &mut self.sys,
             y,
             t,
             &mut self.h,
-            &size,
+            size,
             budget,
-            Orientation::AlongLast,
+            along,
             &mut rejected,
             never,
         ) {
-            Advance::Accepted(s) => Ok(s),
-            Advance::Stalled(why) => Err(why),
-            Advance::Left { at, .. } => match at {},
+            (Advance::Accepted(s), point, tangent) => Ok((s, point, tangent)),
+            (Advance::Stalled(why), ..) => Err(why),
+            (Advance::Left(at), ..) => match at {},
         }
     }
 

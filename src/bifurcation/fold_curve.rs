@@ -150,29 +150,30 @@ impl<'m, M: Model> FoldCurveTracer<'m, M> {
         let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
         let (size, bounds) = (self.opts.step_size(EASY), self.bounds());
         let leaves = |y: &[f64]| crossing(&bounds, n, Some(&y0), y);
-        let s = match path::advance(
+        let (r, point, tangent) = path::advance(
             &mut self.sys,
             &y0,
             &t0,
             &mut self.h,
-            &size,
+            size,
             self.opts.max_iter,
             Orientation::AsGiven,
             &mut self.rejected,
             leaves,
-        ) {
+        );
+        let s = match r {
             Advance::Accepted(s) => s,
-            Advance::Left { at: (k, b), point } => {
+            Advance::Left((k, b)) => {
                 self.steps += 1;
                 return self.land(k, b, &point);
             }
             Advance::Stalled(why) => return Step::Ended(End::Stalled(why)),
         };
         self.steps += 1;
-        if let Some((k, b)) = self.beyond(&s.point) {
-            return self.land(k, b, &s.point);
+        if let Some((k, b)) = self.beyond(&point) {
+            return self.land(k, b, &point);
         }
-        let (y, t) = (s.point, s.tangent);
+        let (y, t) = (point, tangent);
         let cusp =
             if t0[n + 1] * t[n + 1] < 0.0 { Some(self.locate_cusp(s.h, t[n + 1])) } else { None };
         self.sys.renew_borders();

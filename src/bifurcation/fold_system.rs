@@ -607,7 +607,7 @@ impl<M: Model> Extended for FoldSystem<'_, M> {
         FoldSystem::correct(self, y, border, target, budget)
     }
 
-    fn tangent(&mut self) -> Vec<f64> {
-        FoldSystem::tangent(self)
+    fn tangent(&mut self, t: &mut [f64]) {
+        t.copy_from_slice(&FoldSystem::tangent(self));
     }
 }

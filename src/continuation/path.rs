@@ -9,8 +9,9 @@
 //! smallest step with the corrector's reason. What happens to an accepted point
 //! (its events, the next step's size, the end of the path) is the caller's.
 
-use super::tracer::dot;
+use super::tracer::{dot, Tracer};
 use super::StepSize;
+use crate::model::Model;
 use crate::results::Stall;
 
 /// A system a path follows: Newton's method with one extra row, and the tangent.
@@ -24,8 +25,8 @@ pub(crate) trait Extended {
         target: f64,
         budget: usize,
     ) -> Result<usize, Stall>;
-    /// The unit tangent at the point of the last Newton step.
-    fn tangent(&mut self) -> Vec<f64>;
+    /// The unit tangent at the point of the last Newton step, into `t`.
+    fn tangent(&mut self, t: &mut [f64]);
 }
 
 /// How a new tangent's sign is chosen.
@@ -38,13 +39,27 @@ pub(crate) enum Orientation {
     AsGiven,
 }
 
-/// One accepted step.
-#[derive(Debug, Clone)]
+/// Where a step starts and how it is controlled.
+pub(crate) struct Step<'a> {
+    /// The border of the corrector's extra row: the unit direction of the predictor.
+    pub border: &'a [f64],
+    /// `border · y` at the last point (the step of length `h` corrects onto
+    /// `border · y = base + h`).
+    pub base: f64,
+    /// The last point's tangent: a new tangent's turn is measured from it.
+    pub tangent: &'a [f64],
+    /// The step-size rule (its smallest step, its largest turn).
+    pub size: StepSize,
+    /// Newton iterations per attempt.
+    pub budget: usize,
+    /// How a new tangent's sign is chosen.
+    pub orientation: Orientation,
+}
+
+/// One accepted step (its point and tangent are in the buffers given to
+/// [`advance_with`]).
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Stepped {
-    /// The corrected point and its tangent.
-    pub point: Vec<f64>,
-    /// See `point`.
-    pub tangent: Vec<f64>,
     /// Newton iterations of the corrector.
     pub iterations: usize,
     /// The turn of the tangent from the step's start, radians.
@@ -53,66 +68,102 @@ pub(crate) struct Stepped {
     pub h: f64,
 }
 
-/// What [`advance`] did.
+/// What a step did.
 #[derive(Debug, Clone)]
 pub(crate) enum Advance<L> {
     /// A point was accepted.
     Accepted(Stepped),
-    /// The predicted point left the path's domain (`leaves` said where: `at`); it is
-    /// not corrected.
-    Left {
-        /// What `leaves` returned.
-        at: L,
-        /// The predicted point.
-        point: Vec<f64>,
-    },
+    /// The predicted point (left in the point buffer, not corrected) left the path's
+    /// domain; `leaves` said where.
+    Left(L),
     /// The corrector failed below the smallest step: its reason.
     Stalled(Stall),
 }
 
-/// One pseudo-arclength step of `sys` from `y` along `t`, with the step length `h`
-/// (halved in place on every rejection, each counted in `rejected`). `leaves` looks
-/// at each predicted point before it is corrected and may end the step there.
+/// One pseudo-arclength step of `sys` with step length `h` (halved in place on every
+/// rejection, each counted in `rejected`): `predict(h, point)` writes the predicted
+/// point, `leaves` looks at it before it is corrected and may end the step there;
+/// the corrected point is left in `point` and its tangent in `tangent`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn advance_with<S: Extended + ?Sized, L>(
+    sys: &mut S,
+    step: &Step<'_>,
+    h: &mut f64,
+    rejected: &mut usize,
+    mut predict: impl FnMut(f64, &mut [f64]),
+    mut leaves: impl FnMut(&[f64]) -> Option<L>,
+    point: &mut [f64],
+    tangent: &mut [f64],
+) -> Advance<L> {
+    loop {
+        let length = *h;
+        predict(length, point);
+        if let Some(at) = leaves(point) {
+            return Advance::Left(at);
+        }
+        let iterations = match sys.correct(point, step.border, step.base + length, step.budget) {
+            Ok(it) => it,
+            Err(why) => {
+                *rejected += 1;
+                *h *= 0.5;
+                if *h < step.size.min {
+                    return Advance::Stalled(why);
+                }
+                continue;
+            }
+        };
+        sys.tangent(tangent);
+        if step.orientation == Orientation::AlongLast && dot(tangent, step.tangent) < 0.0 {
+            tangent.iter_mut().for_each(|v| *v = -*v);
+        }
+        let turn = dot(step.tangent, tangent).clamp(-1.0, 1.0).acos();
+        if step.size.rejects_turn(turn, length) {
+            *rejected += 1;
+            *h *= 0.5;
+            continue;
+        }
+        return Advance::Accepted(Stepped { iterations, turn, h: length });
+    }
+}
+
+/// [`advance_with`] along the tangent `t` from `y` (the predictor `y + h t`, the
+/// border `t`), with fresh buffers: the corrected point and its tangent.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn advance<S: Extended + ?Sized, L>(
     sys: &mut S,
     y: &[f64],
     t: &[f64],
     h: &mut f64,
-    size: &StepSize,
+    size: StepSize,
     budget: usize,
     orientation: Orientation,
     rejected: &mut usize,
-    mut leaves: impl FnMut(&[f64]) -> Option<L>,
-) -> Advance<L> {
-    loop {
-        let step = *h;
-        let mut z: Vec<f64> = y.iter().zip(t).map(|(a, b)| a + step * b).collect();
-        if let Some(at) = leaves(&z) {
-            return Advance::Left { at, point: z };
+    leaves: impl FnMut(&[f64]) -> Option<L>,
+) -> (Advance<L>, Vec<f64>, Vec<f64>) {
+    let step = Step { border: t, base: dot(t, y), tangent: t, size, budget, orientation };
+    let (mut point, mut tangent) = (vec![0.0; y.len()], vec![0.0; y.len()]);
+    let predict = |h: f64, z: &mut [f64]| {
+        for ((z, a), b) in z.iter_mut().zip(y).zip(t) {
+            *z = a + h * b;
         }
-        let target = dot(t, y) + step;
-        let iterations = match sys.correct(&mut z, t, target, budget) {
-            Ok(it) => it,
-            Err(why) => {
-                *rejected += 1;
-                *h *= 0.5;
-                if *h < size.min {
-                    return Advance::Stalled(why);
-                }
-                continue;
-            }
-        };
-        let mut tn = sys.tangent();
-        if orientation == Orientation::AlongLast && dot(&tn, t) < 0.0 {
-            tn.iter_mut().for_each(|v| *v = -*v);
-        }
-        let turn = dot(&tn, t).clamp(-1.0, 1.0).acos();
-        if size.rejects_turn(turn, step) {
-            *rejected += 1;
-            *h *= 0.5;
-            continue;
-        }
-        return Advance::Accepted(Stepped { point: z, tangent: tn, iterations, turn, h: step });
+    };
+    let r = advance_with(sys, &step, h, rejected, predict, leaves, &mut point, &mut tangent);
+    (r, point, tangent)
+}
+
+/// The sweep's corrector: chord steps after the first Newton step.
+impl<M: Model> Extended for Tracer<'_, M> {
+    fn correct(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+        budget: usize,
+    ) -> Result<usize, Stall> {
+        Tracer::correct(self, y, border, target, budget)
+    }
+
+    fn tangent(&mut self, t: &mut [f64]) {
+        Tracer::tangent(self, t)
     }
 }

@@ -9,6 +9,7 @@
 //! located inside the step that crossed it before the next step is taken.
 
 use super::events::{Control, Event, Observer, Trace};
+use super::path::{self, Advance, Orientation};
 use super::tracer::{dot, unit, Axis, Tracer};
 use super::{AmplitudeBound, Predictor, SweepOptions};
 use crate::balance::Balance;
@@ -511,68 +512,91 @@ impl<'m, M: Model> Continuation<'m, M> {
         let (lo_s, hi_s) = (self.tr.scaled(self.lo), self.tr.scaled(self.hi));
         // The sweep's corrector ends with chord steps: one iteration fewer is as easy.
         let step = self.opts.step_size(1);
-        let min_step = step.min;
         let (mut y, mut t, mut dirv) = (
             std::mem::take(&mut self.y),
             std::mem::take(&mut self.t),
             std::mem::take(&mut self.dirv),
         );
         let last = self.nodes.len() - 1;
-        let ended = loop {
+        let budget = self.tr.max_iter;
+        let ended = 'step: {
             if self.trace.stats.steps >= self.opts.max_steps {
-                break Some(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
+                break 'step Some(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
             }
-            self.predict(first, h, &mut y, &mut dirv);
-            // A prediction beyond the range: land on its end from inside instead of
-            // correcting out there (the model is never evaluated outside the range).
-            if y[n] > hi_s || y[n] < lo_s {
-                self.trace.stats.steps += 1;
-                let b = if y[n] > hi_s { hi_s } else { lo_s };
-                break Some(self.land_on_end(last, b, &y, &dirv, seg));
-            }
-            let target = dot(&dirv, &self.nodes[last].y) + h;
-            let it = match self.tr.correct(&mut y, &dirv, target) {
-                Ok(it) => it,
-                Err(why) => {
-                    self.trace.stats.rejected_steps += 1;
-                    h *= 0.5;
-                    if h < min_step {
-                        break Some(End::Stalled(why));
+            self.direction(first, &mut dirv);
+            let nd = &self.nodes[last];
+            // Second order with the tangent predictor: the curvature from the last two
+            // tangents, so that the first Newton step lands close enough for chord
+            // updates to finish.
+            let bend = (self.opts.predictor == Predictor::Tangent && last > first && nd.h > 0.0)
+                .then(|| &self.nodes[last - 1].t);
+            let predict = |h: f64, y: &mut [f64]| {
+                for i in 0..=n {
+                    y[i] = nd.y[i] + h * dirv[i];
+                }
+                if let Some(prev) = bend {
+                    let f = 0.5 * h * h / nd.h;
+                    for i in 0..=n {
+                        y[i] += f * (nd.t[i] - prev[i]);
                     }
-                    continue;
                 }
             };
-            self.tr.tangent(&mut t);
-            let angle = dot(&self.nodes[last].t, &t).clamp(-1.0, 1.0).acos();
-            if step.rejects_turn(angle, h) {
-                self.trace.stats.rejected_steps += 1;
-                h *= 0.5;
-                continue;
-            }
+            // A prediction beyond the range: land on its end from inside instead of
+            // correcting out there (the model is never evaluated outside the range).
+            let leaves = |y: &[f64]| {
+                (y[n] > hi_s || y[n] < lo_s).then_some(if y[n] > hi_s { hi_s } else { lo_s })
+            };
+            let s = path::Step {
+                border: &dirv,
+                base: dot(&dirv, &nd.y),
+                tangent: &nd.t,
+                size: step,
+                budget,
+                orientation: Orientation::AsGiven,
+            };
+            let stats = &mut self.trace.stats;
+            let r = path::advance_with(
+                &mut self.tr,
+                &s,
+                &mut h,
+                &mut stats.rejected_steps,
+                predict,
+                leaves,
+                &mut y,
+                &mut t,
+            );
+            let accepted = match r {
+                Advance::Accepted(a) => a,
+                Advance::Left(b) => {
+                    self.trace.stats.steps += 1;
+                    break 'step Some(self.land_on_end(last, b, &y, &dirv, seg));
+                }
+                Advance::Stalled(why) => break 'step Some(End::Stalled(why)),
+            };
             self.trace.stats.steps += 1;
             // Left the range: land exactly on its end.
             if y[n] > hi_s || y[n] < lo_s {
                 let b = if y[n] > hi_s { hi_s } else { lo_s };
-                break Some(self.land_on_end(last, b, &y, &dirv, seg));
+                break 'step Some(self.land_on_end(last, b, &y, &dirv, seg));
             }
             // A switched branch that crossed back through the solutions it left ends
             // before that step: the step holds the other branch point, where the
             // branch turns in Ω like at a fold but is not one.
             if self.rejoined(&y) {
-                break Some(End::Rejoined);
+                break 'step Some(End::Rejoined);
             }
             if self.nodes[last].t[n] * t[n] < 0.0 {
                 self.locate_fold(last, &dirv, h, t[n]);
             }
             self.accept(y.clone(), t.clone(), dirv.clone(), h, seg);
             if self.beyond_bound() {
-                break Some(End::AmplitudeBound);
+                break 'step Some(End::AmplitudeBound);
             }
             // Far above the reference amplitude (a branch climbing an asymptote) the
             // natural step is relative: let the largest step grow with the response.
             let amp = self.nodes[last + 1].y[..n].iter().fold(1.0f64, |m, v| m.max(v.abs()));
-            h = step.after(h, it, angle, amp);
-            break None;
+            h = step.after(h, accepted.iterations, accepted.turn, amp);
+            None
         };
         (self.y, self.t, self.dirv) = (y, t, dirv);
         match ended {
@@ -581,8 +605,9 @@ impl<'m, M: Model> Continuation<'m, M> {
         }
     }
 
-    /// The predicted point at arc length `h` from the last node, and the direction.
-    fn predict(&self, first: usize, h: f64, y: &mut [f64], dirv: &mut [f64]) {
+    /// The predictor's direction from the last node: its tangent, or with the secant
+    /// predictor the unit chord from the node before.
+    fn direction(&self, first: usize, dirv: &mut [f64]) {
         let n = self.tr.n;
         let last = self.nodes.len() - 1;
         let nd = &self.nodes[last];
@@ -596,18 +621,6 @@ impl<'m, M: Model> Continuation<'m, M> {
                 dirv.iter_mut().for_each(|v| *v /= norm);
             }
             _ => dirv.copy_from_slice(&nd.t),
-        }
-        for i in 0..=n {
-            y[i] = nd.y[i] + h * dirv[i];
-        }
-        // Second order: the curvature from the last two tangents, so that the first
-        // Newton step lands close enough for chord updates to finish.
-        if self.opts.predictor == Predictor::Tangent && last > first && nd.h > 0.0 {
-            let prev = &self.nodes[last - 1];
-            let f = 0.5 * h * h / nd.h;
-            for i in 0..=n {
-                y[i] += f * (nd.t[i] - prev.t[i]);
-            }
         }
     }
 

@@ -274,10 +274,16 @@ impl<'m, M: Model> Tracer<'m, M> {
     /// factor 10, Newton resumes. Converged when an update is below `tol`, so the
     /// error left is far below it. The tangent comes from that LU, off by about
     /// `dn`: harmless for prediction and step control ([`Tracer::locate_exact`] is
-    /// for where it is not). At most `max_iter` Newton iterations: the step
-    /// controller's budget (a failure halves the step).
-    pub fn correct(&mut self, y: &mut [f64], border: &[f64], target: f64) -> Result<usize, Stall> {
-        self.correct_to(y, border, target, true, self.max_iter)
+    /// for where it is not). At most `budget` Newton iterations (the path's step
+    /// passes `max_iter`: a failure halves the step).
+    pub fn correct(
+        &mut self,
+        y: &mut [f64],
+        border: &[f64],
+        target: f64,
+        budget: usize,
+    ) -> Result<usize, Stall> {
+        self.correct_to(y, border, target, true, budget)
     }
 
     /// [`Tracer::correct`] for a point that is located rather than stepped to (the

@@ -236,8 +236,7 @@ fn a_signal_inside_one_long_point_stops_within_seconds() {
 
 /// A backbone and a family of limit cycles stop at a signal too, within the grace
 /// period: their points so far are written, ended "stopped", with exit code 130 and a
-/// message that counts them (the family's Hopf point is still looked for in the
-/// rest of the range: van der Pol's equilibrium turns unstable at μ = 0).
+/// message that counts them.
 #[test]
 fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
     let dir = tmp("stopped-backbone");
@@ -286,9 +285,6 @@ fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
             format!("error: interrupted: the {n} point(s) traced so far are written"),
             "{what}"
         );
-        if what == "cycles" {
-            assert!(v["hopf"]["value"].as_f64().unwrap().abs() < 1e-8, "{}", v["hopf"]);
-        }
     }
 }
 
