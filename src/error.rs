@@ -160,6 +160,27 @@ pub enum Error {
     #[error(transparent)]
     Stall(#[from] Stall),
 
+    /// A figure asked of something empty: a backbone without points, a family
+    /// without limit cycles, a fold analysis without curves, a trend without points.
+    #[error("no {what} to draw")]
+    NothingToDraw {
+        /// What was empty.
+        what: Drawable,
+    },
+    /// The plotting library failed while drawing a figure.
+    #[error("drawing a figure failed: {reason}")]
+    Plot {
+        /// Its report (the `Debug` text of its error).
+        reason: String,
+    },
+    /// A curve's polylines found no placeholder to replace in the SVG the plotting
+    /// library wrote (the placeholder text was dropped or rewritten).
+    #[error("drawing a figure failed: curve slot {slot} lost")]
+    CurveSlotLost {
+        /// The slot's index, in the order the curves were reserved.
+        slot: usize,
+    },
+
     /// Anything else with a message.
     #[error("{0}")]
     Other(String),
@@ -185,6 +206,30 @@ pub enum HillFailure {
     /// refine, the search for a real root a fold left, `Hill::unstable_roots`) failed.
     #[error("counting the roots of det T failed: {0}")]
     RootCount(String),
+}
+
+/// What a figure had nothing of ([`Error::NothingToDraw`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drawable {
+    /// The points of a backbone.
+    BackbonePoints,
+    /// The limit cycles of a family.
+    LimitCycles,
+    /// The curves of a fold analysis.
+    FoldCurves,
+    /// The points of a trend (a quantity against a varied value).
+    Points,
+}
+
+impl std::fmt::Display for Drawable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Drawable::BackbonePoints => "backbone points",
+            Drawable::LimitCycles => "limit cycles",
+            Drawable::FoldCurves => "fold curves",
+            Drawable::Points => "points",
+        })
+    }
 }
 
 /// A model's structure claim ([`Error::WrongClaim`]).
@@ -765,6 +810,38 @@ mod tests {
             assert_eq!(stall.to_string(), text, "{stall:?}");
             // An error that is a stall reads as the stall.
             assert_eq!(Error::from(stall).to_string(), text);
+        }
+    }
+
+    /// Every error that once was a bare message reads as that message did (each
+    /// expected text is built by the `format!` or literal that built it then).
+    #[test]
+    fn a_typed_error_reads_as_the_message_it_replaced() {
+        let cases: Vec<(Error, String)> = vec![
+            (
+                Error::NothingToDraw { what: Drawable::BackbonePoints },
+                "no backbone points to draw".to_string(),
+            ),
+            (
+                Error::NothingToDraw { what: Drawable::LimitCycles },
+                "no limit cycles to draw".to_string(),
+            ),
+            (
+                Error::NothingToDraw { what: Drawable::FoldCurves },
+                "no fold curves to draw".to_string(),
+            ),
+            (Error::NothingToDraw { what: Drawable::Points }, "no points to draw".to_string()),
+            (
+                Error::Plot { reason: format!("{:?}", "backend") },
+                format!("drawing a figure failed: {:?}", "backend"),
+            ),
+            (
+                Error::CurveSlotLost { slot: 3 },
+                format!("drawing a figure failed: curve slot {} lost", 3),
+            ),
+        ];
+        for (error, text) in cases {
+            assert_eq!(error.to_string(), text, "{error:?}");
         }
     }
 
