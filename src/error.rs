@@ -180,6 +180,21 @@ pub enum Error {
         /// The slot's index, in the order the curves were reserved.
         slot: usize,
     },
+    /// A time integration with memory (a fractional derivative) took more steps than
+    /// its history of past values was made for.
+    #[error(
+        "history buffer full ({capacity} values): more steps than the integrator was set up for"
+    )]
+    HistoryFull {
+        /// The number of values the history holds.
+        capacity: usize,
+    },
+    /// The FFT of the fast history sum failed.
+    #[error("fast history FFT: {reason}")]
+    HistoryFft {
+        /// The FFT library's report.
+        reason: String,
+    },
 
     /// Anything else with a message.
     #[error("{0}")]
@@ -838,6 +853,17 @@ mod tests {
             (
                 Error::CurveSlotLost { slot: 3 },
                 format!("drawing a figure failed: curve slot {} lost", 3),
+            ),
+            (
+                Error::HistoryFull { capacity: 4096 },
+                format!(
+                    "history buffer full ({} values): more steps than the integrator was set up for",
+                    4096
+                ),
+            ),
+            (
+                Error::HistoryFft { reason: "wrong length".into() },
+                format!("fast history FFT: {}", "wrong length"),
             ),
         ];
         for (error, text) in cases {
