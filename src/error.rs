@@ -153,6 +153,15 @@ pub enum Error {
     /// would give wrong Jacobians.
     #[error("model '{model}': {claim} is wrong: {detail}")]
     WrongClaim { model: String, claim: Claim, detail: String },
+    /// A model declares a signal (a combination of DOFs its residual reads) with a DOF
+    /// index the model does not have.
+    #[error("model '{model}' declares a signal on a DOF index outside 0..{dofs}")]
+    SignalOutsideDofs {
+        /// The model's name.
+        model: String,
+        /// Its number of DOFs (valid indices are `0..dofs`).
+        dofs: usize,
+    },
 
     /// A path that could not start where that fails the whole computation (a
     /// backbone that did not leave its linear mode, a limit cycle that did not
@@ -864,6 +873,13 @@ mod tests {
             (
                 Error::HistoryFft { reason: "wrong length".into() },
                 format!("fast history FFT: {}", "wrong length"),
+            ),
+            (
+                Error::SignalOutsideDofs { model: "duffing".into(), dofs: 2 },
+                format!(
+                    "model '{}' declares a signal on a DOF index outside 0..{}",
+                    "duffing", 2
+                ),
             ),
         ];
         for (error, text) in cases {
