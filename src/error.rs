@@ -204,6 +204,40 @@ pub enum Error {
         /// The FFT library's report.
         reason: String,
     },
+    /// The backbone traced to find a limit cycle (where the mode's artificial damping
+    /// is zero) ended without reaching one.
+    #[error("no limit cycle near ω = {omega} rad/s (mode {mode}): {ended}")]
+    NoLimitCycle {
+        /// The frequency guess, rad/s.
+        omega: f64,
+        /// The mode whose linear frequency is nearest the guess (1-based).
+        mode: usize,
+        /// How the backbone ended, as its `ended` reads
+        /// ([`End`](crate::results::End)'s text, `stalled: ...`).
+        ended: String,
+    },
+    /// The limit cycle found is no larger than ten times the amplitude its backbone
+    /// started at: the mode is at its Hopf point, where the cycle shrinks to the
+    /// equilibrium.
+    #[error("the cycle near ω = {omega:.6} rad/s collapses to the equilibrium (max |x| = {amplitude:.3e}): the mode is at its Hopf point")]
+    CycleCollapses {
+        /// The cycle's frequency, rad/s.
+        omega: f64,
+        /// The `max |x|` of its first output (0 for a model without outputs).
+        amplitude: f64,
+    },
+    /// A family of limit cycles found no cycle to start from at the first value of
+    /// its parameter.
+    #[error(fmt = no_cycle_to_continue)]
+    NoCycleToContinue {
+        /// The parameter's name.
+        parameter: String,
+        /// Its first value.
+        value: f64,
+        /// Why no cycle was found there (none when the cycle found had no point to start
+        /// from).
+        cause: Option<Box<Error>>,
+    },
 
     /// Anything else with a message.
     #[error("{0}")]
@@ -293,6 +327,20 @@ fn coefficient(
          and parameter values where it is defined",
         Num(*omega)
     )
+}
+
+/// The text of [`Error::NoCycleToContinue`]: the cause after a colon, when there is one.
+fn no_cycle_to_continue(
+    parameter: &str,
+    value: &f64,
+    cause: &Option<Box<Error>>,
+    f: &mut std::fmt::Formatter<'_>,
+) -> std::fmt::Result {
+    write!(f, "no limit cycle to continue at {parameter} = {value}")?;
+    match cause {
+        Some(e) => write!(f, ": {e}"),
+        None => Ok(()),
+    }
 }
 
 /// The text of [`Error::Hill`] and [`Stall::Hill`].
@@ -880,6 +928,44 @@ mod tests {
                     "model '{}' declares a signal on a DOF index outside 0..{}",
                     "duffing", 2
                 ),
+            ),
+            (
+                Error::NoLimitCycle {
+                    omega: 1.5,
+                    mode: 2,
+                    ended: "stalled: step limit 500 reached".into(),
+                },
+                format!(
+                    "no limit cycle near ω = {} rad/s (mode {}): {}",
+                    1.5, 2, "stalled: step limit 500 reached"
+                ),
+            ),
+            (
+                Error::CycleCollapses { omega: 1.2345678, amplitude: 2.5e-9 },
+                format!(
+                    "the cycle near ω = {:.6} rad/s collapses to the equilibrium (max |x| = {:.3e}): the mode is at its Hopf point",
+                    1.2345678, 2.5e-9
+                ),
+            ),
+            (
+                Error::NoCycleToContinue {
+                    parameter: "mu".into(),
+                    value: 0.25,
+                    cause: Some(Box::new(Error::CycleCollapses {
+                        omega: 1.0,
+                        amplitude: 1e-9,
+                    })),
+                },
+                format!(
+                    "no limit cycle to continue at {} = {}: {}",
+                    "mu",
+                    0.25,
+                    Error::CycleCollapses { omega: 1.0, amplitude: 1e-9 }
+                ),
+            ),
+            (
+                Error::NoCycleToContinue { parameter: "mu".into(), value: 0.25, cause: None },
+                format!("no limit cycle to continue at {} = {}", "mu", 0.25),
             ),
         ];
         for (error, text) in cases {
