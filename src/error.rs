@@ -105,6 +105,25 @@ pub enum Error {
         /// See `from`.
         to: f64,
     },
+    /// A symmetry-breaking sweep's branch point lies on a solution whose even
+    /// harmonics are not negligible: the symmetry is already broken there.
+    #[error("the branch point at Ω = {omega} is not on a symmetric solution (its even harmonics are {ratio:.1e} of the odd ones): nothing to break")]
+    NotSymmetric {
+        /// Ω of the branch point, rad/s.
+        omega: f64,
+        /// The largest even-harmonic coefficient over the largest odd one.
+        ratio: f64,
+    },
+    /// Branch switching (at a period doubling or a symmetry-breaking branch point)
+    /// found no direction to leave the solution along.
+    #[error("{failure} at the branch at ω = {omega}")]
+    NoCriticalDirection {
+        /// The frequency of the balance there, rad/s (`Ω/2` at a period doubling,
+        /// whose balance is in the harmonics of `Ω/2`; Ω at a branch point).
+        omega: f64,
+        /// Why.
+        failure: DirectionFailure,
+    },
     /// A coefficient of the model (a function of parameters and Ω) is NaN or infinite
     /// where the model is evaluated: a square root of a negative number, a logarithm
     /// of a non-positive one, a division by zero.
@@ -286,6 +305,25 @@ impl std::fmt::Display for Drawable {
             Drawable::LimitCycles => "limit cycles",
             Drawable::FoldCurves => "fold curves",
             Drawable::Points => "points",
+        })
+    }
+}
+
+/// Why branch switching found no direction ([`Error::NoCriticalDirection`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DirectionFailure {
+    /// The Jacobian at the branch is not finite (the pivot ratio of its factorisation
+    /// is NaN).
+    NonFiniteJacobian,
+    /// Inverse iteration lost the direction: its vector became zero or not finite.
+    Vanished,
+}
+
+impl std::fmt::Display for DirectionFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            DirectionFailure::NonFiniteJacobian => "non-finite Jacobian",
+            DirectionFailure::Vanished => "no critical direction",
         })
     }
 }
@@ -966,6 +1004,24 @@ mod tests {
             (
                 Error::NoCycleToContinue { parameter: "mu".into(), value: 0.25, cause: None },
                 format!("no limit cycle to continue at {} = {}", "mu", 0.25),
+            ),
+            (
+                Error::NotSymmetric { omega: 1.75, ratio: 0.0123 },
+                format!(
+                    "the branch point at Ω = {} is not on a symmetric solution (its even harmonics are {:.1e} of the odd ones): nothing to break",
+                    1.75, 0.0123
+                ),
+            ),
+            (
+                Error::NoCriticalDirection {
+                    omega: 0.875,
+                    failure: DirectionFailure::NonFiniteJacobian,
+                },
+                format!("non-finite Jacobian at the branch at ω = {}", 0.875),
+            ),
+            (
+                Error::NoCriticalDirection { omega: 0.875, failure: DirectionFailure::Vanished },
+                format!("no critical direction at the branch at ω = {}", 0.875),
             ),
         ];
         for (error, text) in cases {
