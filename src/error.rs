@@ -166,6 +166,10 @@ pub enum Error {
     /// `Unknown` with this as its reason).
     #[error(fmt = hill)]
     Hill { omega: f64, failure: HillFailure },
+    /// The linearisation of a model at rest gave no natural frequencies or mode
+    /// shapes (for a backbone's or a limit cycle's start).
+    #[error(transparent)]
+    Linearisation(#[from] LinearisationFailure),
 
     /// A model's structure claim ([`crate::model::Model::affine_signals`],
     /// `explicit_omega`, `signal_reads`) contradicted at a test state: trusted, it
@@ -326,6 +330,22 @@ impl std::fmt::Display for DirectionFailure {
             DirectionFailure::Vanished => "no critical direction",
         })
     }
+}
+
+/// Why the linearisation at rest gave no modes ([`Error::Linearisation`]).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum LinearisationFailure {
+    /// The generalised eigenproblem `K φ = μ M φ` did not converge (faer's report,
+    /// its `Debug` text).
+    #[error("the linearised model's eigenvalues failed: {0}")]
+    Eigensolve(String),
+    /// `K − μ M` at a mode's eigenvalue is not finite (the pivot ratio of its
+    /// factorisation is NaN).
+    #[error("non-finite linearised model")]
+    NonFinite,
+    /// Inverse iteration for a mode shape lost its vector (zero or not finite).
+    #[error("no mode shape: the linearised model is degenerate")]
+    Degenerate,
 }
 
 /// A model's structure claim ([`Error::WrongClaim`]).
@@ -1022,6 +1042,18 @@ mod tests {
             (
                 Error::NoCriticalDirection { omega: 0.875, failure: DirectionFailure::Vanished },
                 format!("no critical direction at the branch at ω = {}", 0.875),
+            ),
+            (
+                Error::from(LinearisationFailure::Eigensolve(format!("{:?}", "NoConvergence"))),
+                format!("the linearised model's eigenvalues failed: {:?}", "NoConvergence"),
+            ),
+            (
+                Error::Linearisation(LinearisationFailure::NonFinite),
+                "non-finite linearised model".to_string(),
+            ),
+            (
+                Error::Linearisation(LinearisationFailure::Degenerate),
+                "no mode shape: the linearised model is degenerate".to_string(),
             ),
         ];
         for (error, text) in cases {
