@@ -261,10 +261,6 @@ pub enum Error {
         /// from).
         cause: Option<Box<Error>>,
     },
-
-    /// Anything else with a message.
-    #[error("{0}")]
-    Other(String),
 }
 
 /// Shorthand for results in this crate.
@@ -1080,7 +1076,8 @@ mod tests {
         assert_eq!(s.to_string(), text);
         let step = Stall::StepLimit { steps: 7 };
         assert_eq!(Stall::from(Error::from(step.clone())), step);
-        let other = Error::Other("something else".into());
-        assert_eq!(Stall::from(other), Stall::Other("something else".into()));
+        let other = Error::HistoryFull { capacity: 8 };
+        let text = other.to_string();
+        assert_eq!(Stall::from(other), Stall::Other(text));
     }
 }
