@@ -55,9 +55,11 @@ pub fn run(set: Option<String>) -> Result<(), ihbm::Error> {
     let mut model = Absorber::default();
     // Parameters by name, as the CLI's --set does; an unknown name is an error.
     if let Some(arg) = set {
-        let (name, value) = arg
-            .split_once('=')
-            .ok_or_else(|| ihbm::Error::Other(format!("expected NAME=VALUE, got '{arg}'")))?;
+        let (name, value) = arg.split_once('=').ok_or_else(|| ihbm::Error::InvalidValue {
+            what: "parameter change".into(),
+            value: format!("'{arg}'"),
+            expected: "NAME=VALUE".into(),
+        })?;
         let v: f64 = value.parse().map_err(|_| ihbm::Error::InvalidValue {
             what: format!("value of {name}"),
             value: value.to_string(),

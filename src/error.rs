@@ -105,6 +105,25 @@ pub enum Error {
         /// See `from`.
         to: f64,
     },
+    /// A symmetry-breaking sweep's branch point lies on a solution whose even
+    /// harmonics are not negligible: the symmetry is already broken there.
+    #[error("the branch point at Ω = {omega} is not on a symmetric solution (its even harmonics are {ratio:.1e} of the odd ones): nothing to break")]
+    NotSymmetric {
+        /// Ω of the branch point, rad/s.
+        omega: f64,
+        /// The largest even-harmonic coefficient over the largest odd one.
+        ratio: f64,
+    },
+    /// Branch switching (at a period doubling or a symmetry-breaking branch point)
+    /// found no direction to leave the solution along.
+    #[error("{failure} at the branch at ω = {omega}")]
+    NoCriticalDirection {
+        /// The frequency of the balance there, rad/s (`Ω/2` at a period doubling,
+        /// whose balance is in the harmonics of `Ω/2`; Ω at a branch point).
+        omega: f64,
+        /// Why.
+        failure: DirectionFailure,
+    },
     /// A coefficient of the model (a function of parameters and Ω) is NaN or infinite
     /// where the model is evaluated: a square root of a negative number, a logarithm
     /// of a non-positive one, a division by zero.
@@ -147,12 +166,25 @@ pub enum Error {
     /// `Unknown` with this as its reason).
     #[error(fmt = hill)]
     Hill { omega: f64, failure: HillFailure },
+    /// The linearisation of a model at rest gave no natural frequencies or mode
+    /// shapes (for a backbone's or a limit cycle's start).
+    #[error(transparent)]
+    Linearisation(#[from] LinearisationFailure),
 
     /// A model's structure claim ([`crate::model::Model::affine_signals`],
     /// `explicit_omega`, `signal_reads`) contradicted at a test state: trusted, it
     /// would give wrong Jacobians.
     #[error("model '{model}': {claim} is wrong: {detail}")]
     WrongClaim { model: String, claim: Claim, detail: String },
+    /// A model declares a signal (a combination of DOFs its residual reads) with a DOF
+    /// index the model does not have.
+    #[error("model '{model}' declares a signal on a DOF index outside 0..{dofs}")]
+    SignalOutsideDofs {
+        /// The model's name.
+        model: String,
+        /// Its number of DOFs (valid indices are `0..dofs`).
+        dofs: usize,
+    },
 
     /// A path that could not start where that fails the whole computation (a
     /// backbone that did not leave its linear mode, a limit cycle that did not
@@ -160,9 +192,75 @@ pub enum Error {
     #[error(transparent)]
     Stall(#[from] Stall),
 
-    /// Anything else with a message.
-    #[error("{0}")]
-    Other(String),
+    /// A figure asked of something empty: a backbone without points, a family
+    /// without limit cycles, a fold analysis without curves, a trend without points.
+    #[error("no {what} to draw")]
+    NothingToDraw {
+        /// What was empty.
+        what: Drawable,
+    },
+    /// The plotting library failed while drawing a figure.
+    #[error("drawing a figure failed: {reason}")]
+    Plot {
+        /// Its report (the `Debug` text of its error).
+        reason: String,
+    },
+    /// A curve's polylines found no placeholder to replace in the SVG the plotting
+    /// library wrote (the placeholder text was dropped or rewritten).
+    #[error("drawing a figure failed: curve slot {slot} lost")]
+    CurveSlotLost {
+        /// The slot's index, in the order the curves were reserved.
+        slot: usize,
+    },
+    /// A time integration with memory (a fractional derivative) took more steps than
+    /// its history of past values was made for.
+    #[error(
+        "history buffer full ({capacity} values): more steps than the integrator was set up for"
+    )]
+    HistoryFull {
+        /// The number of values the history holds.
+        capacity: usize,
+    },
+    /// The FFT of the fast history sum failed.
+    #[error("fast history FFT: {reason}")]
+    HistoryFft {
+        /// The FFT library's report.
+        reason: String,
+    },
+    /// The backbone traced to find a limit cycle (where the mode's artificial damping
+    /// is zero) ended without reaching one.
+    #[error("no limit cycle near ω = {omega} rad/s (mode {mode}): {ended}")]
+    NoLimitCycle {
+        /// The frequency guess, rad/s.
+        omega: f64,
+        /// The mode whose linear frequency is nearest the guess (1-based).
+        mode: usize,
+        /// How the backbone ended, as its `ended` reads
+        /// ([`End`](crate::results::End)'s text, `stalled: ...`).
+        ended: String,
+    },
+    /// The limit cycle found is no larger than ten times the amplitude its backbone
+    /// started at: the mode is at its Hopf point, where the cycle shrinks to the
+    /// equilibrium.
+    #[error("the cycle near ω = {omega:.6} rad/s collapses to the equilibrium (max |x| = {amplitude:.3e}): the mode is at its Hopf point")]
+    CycleCollapses {
+        /// The cycle's frequency, rad/s.
+        omega: f64,
+        /// The `max |x|` of its first output (0 for a model without outputs).
+        amplitude: f64,
+    },
+    /// A family of limit cycles found no cycle to start from at the first value of
+    /// its parameter.
+    #[error(fmt = no_cycle_to_continue)]
+    NoCycleToContinue {
+        /// The parameter's name.
+        parameter: String,
+        /// Its first value.
+        value: f64,
+        /// Why no cycle was found there (none when the cycle found had no point to start
+        /// from).
+        cause: Option<Box<Error>>,
+    },
 }
 
 /// Shorthand for results in this crate.
@@ -185,6 +283,65 @@ pub enum HillFailure {
     /// refine, the search for a real root a fold left, `Hill::unstable_roots`) failed.
     #[error("counting the roots of det T failed: {0}")]
     RootCount(String),
+}
+
+/// What a figure had nothing of ([`Error::NothingToDraw`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drawable {
+    /// The points of a backbone.
+    BackbonePoints,
+    /// The limit cycles of a family.
+    LimitCycles,
+    /// The curves of a fold analysis.
+    FoldCurves,
+    /// The points of a trend (a quantity against a varied value).
+    Points,
+}
+
+impl std::fmt::Display for Drawable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Drawable::BackbonePoints => "backbone points",
+            Drawable::LimitCycles => "limit cycles",
+            Drawable::FoldCurves => "fold curves",
+            Drawable::Points => "points",
+        })
+    }
+}
+
+/// Why branch switching found no direction ([`Error::NoCriticalDirection`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DirectionFailure {
+    /// The Jacobian at the branch is not finite (the pivot ratio of its factorisation
+    /// is NaN).
+    NonFiniteJacobian,
+    /// Inverse iteration lost the direction: its vector became zero or not finite.
+    Vanished,
+}
+
+impl std::fmt::Display for DirectionFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            DirectionFailure::NonFiniteJacobian => "non-finite Jacobian",
+            DirectionFailure::Vanished => "no critical direction",
+        })
+    }
+}
+
+/// Why the linearisation at rest gave no modes ([`Error::Linearisation`]).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum LinearisationFailure {
+    /// The generalised eigenproblem `K φ = μ M φ` did not converge (faer's report,
+    /// its `Debug` text).
+    #[error("the linearised model's eigenvalues failed: {0}")]
+    Eigensolve(String),
+    /// `K − μ M` at a mode's eigenvalue is not finite (the pivot ratio of its
+    /// factorisation is NaN).
+    #[error("non-finite linearised model")]
+    NonFinite,
+    /// Inverse iteration for a mode shape lost its vector (zero or not finite).
+    #[error("no mode shape: the linearised model is degenerate")]
+    Degenerate,
 }
 
 /// A model's structure claim ([`Error::WrongClaim`]).
@@ -224,6 +381,20 @@ fn coefficient(
          and parameter values where it is defined",
         Num(*omega)
     )
+}
+
+/// The text of [`Error::NoCycleToContinue`]: the cause after a colon, when there is one.
+fn no_cycle_to_continue(
+    parameter: &str,
+    value: &f64,
+    cause: &Option<Box<Error>>,
+    f: &mut std::fmt::Formatter<'_>,
+) -> std::fmt::Result {
+    write!(f, "no limit cycle to continue at {parameter} = {value}")?;
+    match cause {
+        Some(e) => write!(f, ": {e}"),
+        None => Ok(()),
+    }
 }
 
 /// The text of [`Error::Hill`] and [`Stall::Hill`].
@@ -768,6 +939,124 @@ mod tests {
         }
     }
 
+    /// Every error that once was a bare message reads as that message did (each
+    /// expected text is built by the `format!` or literal that built it then).
+    #[test]
+    fn a_typed_error_reads_as_the_message_it_replaced() {
+        let cases: Vec<(Error, String)> = vec![
+            (
+                Error::NothingToDraw { what: Drawable::BackbonePoints },
+                "no backbone points to draw".to_string(),
+            ),
+            (
+                Error::NothingToDraw { what: Drawable::LimitCycles },
+                "no limit cycles to draw".to_string(),
+            ),
+            (
+                Error::NothingToDraw { what: Drawable::FoldCurves },
+                "no fold curves to draw".to_string(),
+            ),
+            (Error::NothingToDraw { what: Drawable::Points }, "no points to draw".to_string()),
+            (
+                Error::Plot { reason: format!("{:?}", "backend") },
+                format!("drawing a figure failed: {:?}", "backend"),
+            ),
+            (
+                Error::CurveSlotLost { slot: 3 },
+                format!("drawing a figure failed: curve slot {} lost", 3),
+            ),
+            (
+                Error::HistoryFull { capacity: 4096 },
+                format!(
+                    "history buffer full ({} values): more steps than the integrator was set up for",
+                    4096
+                ),
+            ),
+            (
+                Error::HistoryFft { reason: "wrong length".into() },
+                format!("fast history FFT: {}", "wrong length"),
+            ),
+            (
+                Error::SignalOutsideDofs { model: "duffing".into(), dofs: 2 },
+                format!(
+                    "model '{}' declares a signal on a DOF index outside 0..{}",
+                    "duffing", 2
+                ),
+            ),
+            (
+                Error::NoLimitCycle {
+                    omega: 1.5,
+                    mode: 2,
+                    ended: "stalled: step limit 500 reached".into(),
+                },
+                format!(
+                    "no limit cycle near ω = {} rad/s (mode {}): {}",
+                    1.5, 2, "stalled: step limit 500 reached"
+                ),
+            ),
+            (
+                Error::CycleCollapses { omega: 1.2345678, amplitude: 2.5e-9 },
+                format!(
+                    "the cycle near ω = {:.6} rad/s collapses to the equilibrium (max |x| = {:.3e}): the mode is at its Hopf point",
+                    1.2345678, 2.5e-9
+                ),
+            ),
+            (
+                Error::NoCycleToContinue {
+                    parameter: "mu".into(),
+                    value: 0.25,
+                    cause: Some(Box::new(Error::CycleCollapses {
+                        omega: 1.0,
+                        amplitude: 1e-9,
+                    })),
+                },
+                format!(
+                    "no limit cycle to continue at {} = {}: {}",
+                    "mu",
+                    0.25,
+                    Error::CycleCollapses { omega: 1.0, amplitude: 1e-9 }
+                ),
+            ),
+            (
+                Error::NoCycleToContinue { parameter: "mu".into(), value: 0.25, cause: None },
+                format!("no limit cycle to continue at {} = {}", "mu", 0.25),
+            ),
+            (
+                Error::NotSymmetric { omega: 1.75, ratio: 0.0123 },
+                format!(
+                    "the branch point at Ω = {} is not on a symmetric solution (its even harmonics are {:.1e} of the odd ones): nothing to break",
+                    1.75, 0.0123
+                ),
+            ),
+            (
+                Error::NoCriticalDirection {
+                    omega: 0.875,
+                    failure: DirectionFailure::NonFiniteJacobian,
+                },
+                format!("non-finite Jacobian at the branch at ω = {}", 0.875),
+            ),
+            (
+                Error::NoCriticalDirection { omega: 0.875, failure: DirectionFailure::Vanished },
+                format!("no critical direction at the branch at ω = {}", 0.875),
+            ),
+            (
+                Error::from(LinearisationFailure::Eigensolve(format!("{:?}", "NoConvergence"))),
+                format!("the linearised model's eigenvalues failed: {:?}", "NoConvergence"),
+            ),
+            (
+                Error::Linearisation(LinearisationFailure::NonFinite),
+                "non-finite linearised model".to_string(),
+            ),
+            (
+                Error::Linearisation(LinearisationFailure::Degenerate),
+                "no mode shape: the linearised model is degenerate".to_string(),
+            ),
+        ];
+        for (error, text) in cases {
+            assert_eq!(error.to_string(), text, "{error:?}");
+        }
+    }
+
     /// An error met while tracing keeps its kind as a reason, and a stall made an
     /// error comes back unchanged.
     #[test]
@@ -787,7 +1076,8 @@ mod tests {
         assert_eq!(s.to_string(), text);
         let step = Stall::StepLimit { steps: 7 };
         assert_eq!(Stall::from(Error::from(step.clone())), step);
-        let other = Error::Other("something else".into());
-        assert_eq!(Stall::from(other), Stall::Other("something else".into()));
+        let other = Error::HistoryFull { capacity: 8 };
+        let text = other.to_string();
+        assert_eq!(Stall::from(other), Stall::Other(text));
     }
 }

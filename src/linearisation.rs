@@ -7,7 +7,7 @@
 //! equations are `Z(λ) φ = 0` with `Z(λ)_{e,d} = Σ_s g_{e,s} λ^{q_s} c_{s,d}`: mass,
 //! damping and stiffness, and fractional terms with their exact `(iω)^p`.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, LinearisationFailure, Result};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use faer::Mat;
@@ -172,9 +172,9 @@ fn eigenvalues(k: &Mat<f64>, m: &Mat<f64>) -> Result<Vec<f64>> {
         // faer's generalized eigensolver needs n ≥ 2
         vec![(Complex64::new(k[(0, 0)], 0.0), Complex64::new(m[(0, 0)], 0.0))]
     } else {
-        let ge = k.generalized_eigen(m).map_err(|e| {
-            Error::Other(format!("the linearised model's eigenvalues failed: {e:?}"))
-        })?;
+        let ge = k
+            .generalized_eigen(m)
+            .map_err(|e| LinearisationFailure::Eigensolve(format!("{e:?}")))?;
         let (sa, sb) = (ge.S_a(), ge.S_b());
         (0..nd).map(|i| (sa[i], sb[i])).collect()
     };
@@ -203,14 +203,14 @@ fn null_vector(k: &Mat<f64>, m: &Mat<f64>, mu: f64) -> Result<Vec<f64>> {
         }
     }
     if lu.factor().is_nan() {
-        return Err(Error::Other("non-finite linearised model".into()));
+        return Err(LinearisationFailure::NonFinite.into());
     }
     let mut v: Vec<f64> = (0..nd).map(|i| 1.0 + 0.1 * i as f64).collect();
     for _ in 0..3 {
         lu.solve(&mut v);
         let big = v.iter().fold(0.0f64, |a, &x| if x.abs() > a.abs() { x } else { a });
         if !(big.is_finite() && big != 0.0) {
-            return Err(Error::Other("no mode shape: the linearised model is degenerate".into()));
+            return Err(LinearisationFailure::Degenerate.into());
         }
         v.iter_mut().for_each(|x| *x /= big);
     }

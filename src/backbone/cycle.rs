@@ -98,17 +98,18 @@ pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
     let branch = BackboneContinuation::start(model, &bo, Goal::ZeroDamping(opts.max), opts.start)?
         .run(&mut ());
     let Some(last) = branch.points.last().filter(|_| branch.ended == End::ReachedAmplitude) else {
-        return Err(Error::Other(format!(
-            "no limit cycle near ω = {} rad/s (mode {mode}): {}",
-            opts.omega, branch.ended
-        )));
+        return Err(Error::NoLimitCycle {
+            omega: opts.omega,
+            mode,
+            ended: branch.ended.to_string(),
+        });
     };
     let omega = last.omega;
     if last.outputs.iter().all(|o| o.max_abs <= 10.0 * opts.start) {
-        return Err(Error::Other(format!(
-            "the cycle near ω = {omega:.6} rad/s collapses to the equilibrium (max |x| = {:.3e}): the mode is at its Hopf point",
-            last.outputs.first().map_or(0.0, |o| o.max_abs)
-        )));
+        return Err(Error::CycleCollapses {
+            omega,
+            amplitude: last.outputs.first().map_or(0.0, |o| o.max_abs),
+        });
     }
     let coeffs = last.coeffs.clone();
     let outputs = OutputEval::new(model, opts.harmonics).summaries(&coeffs);

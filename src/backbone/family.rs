@@ -237,11 +237,15 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
             harmonics: opts.harmonics,
             ..Default::default()
         };
-        let first = super::cycle(&m0, &co).map_err(|e| {
-            Error::Other(format!("no limit cycle to continue at {} = {from}: {e}", opts.param))
+        let first = super::cycle(&m0, &co).map_err(|e| Error::NoCycleToContinue {
+            parameter: opts.param.clone(),
+            value: from,
+            cause: Some(Box::new(e)),
         })?;
-        let start = first.branch.points.last().ok_or_else(|| {
-            Error::Other(format!("no limit cycle to continue at {} = {from}", opts.param))
+        let start = first.branch.points.last().ok_or_else(|| Error::NoCycleToContinue {
+            parameter: opts.param.clone(),
+            value: from,
+            cause: None,
         })?;
         let (mut sys, _, _) =
             system(model, &m0, Some((index, from)), first.mode, opts.harmonics, opts.tol)?;

@@ -173,10 +173,10 @@ impl<'m, M: Model> Balance<'m, M> {
         let nsig = model.signals().len();
         for s in model.signals() {
             if s.terms.iter().any(|&(d, _)| d >= ndof) {
-                return Err(Error::Other(format!(
-                    "model '{}' declares a signal on a DOF index outside 0..{ndof}",
-                    model.name()
-                )));
+                return Err(Error::SignalOutsideDofs {
+                    model: model.name().to_string(),
+                    dofs: ndof,
+                });
             }
         }
         let m = model_sample_count(model, harmonics, period);

@@ -16,7 +16,7 @@
 use crate::balance::Balance;
 use crate::continuation::{self, SweepOptions};
 use crate::corrector::{self, SolveOptions};
-use crate::error::{Error, Result};
+use crate::error::{DirectionFailure, Error, Result};
 use crate::linalg::DenseLu;
 use crate::model::Model;
 use crate::results::{BifurcationKind, Curve, End};
@@ -229,11 +229,7 @@ pub fn break_symmetry<M: Model + Clone>(
     // in the even harmonics (measured 1e-7 of the odd ones at N = 16); a solution
     // that broke the symmetry would have them of order one.
     if size(true) > SYMMETRIC * size(false) {
-        return Err(Error::Other(format!(
-            "the branch point at Ω = {} is not on a symmetric solution (its even harmonics are {:.1e} of the odd ones): nothing to break",
-            bp.omega,
-            size(true) / size(false)
-        )));
+        return Err(Error::NotSymmetric { omega: bp.omega, ratio: size(true) / size(false) });
     }
     let a: Vec<f64> = a.iter().zip(&even).map(|(&x, &e)| if e { 0.0 } else { x }).collect();
     let v = critical_direction(model, n, 1, &a, bp.omega, &even)?;
@@ -274,7 +270,10 @@ fn critical_direction<M: Model>(
     let mut r = vec![0.0; len];
     bal.jacobian(a, w, &mut r, lu.matrix_mut().rb_mut());
     if lu.factor().is_nan() {
-        return Err(Error::Other(format!("non-finite Jacobian at the branch at ω = {w}")));
+        return Err(Error::NoCriticalDirection {
+            omega: w,
+            failure: DirectionFailure::NonFiniteJacobian,
+        });
     }
     let mut v: Vec<f64> = odd.iter().map(|&o| if o { 1.0 } else { 0.0 }).collect();
     for _ in 0..3 {
@@ -283,7 +282,10 @@ fn critical_direction<M: Model>(
         v.iter_mut().zip(odd).filter(|&(_, &o)| !o).for_each(|(x, _)| *x = 0.0);
         let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         if !(norm.is_finite() && norm > 0.0) {
-            return Err(Error::Other(format!("no critical direction at the branch at ω = {w}")));
+            return Err(Error::NoCriticalDirection {
+                omega: w,
+                failure: DirectionFailure::Vanished,
+            });
         }
         v.iter_mut().for_each(|x| *x /= norm);
     }

@@ -95,12 +95,6 @@ impl History {
     }
 }
 
-fn full(capacity: usize) -> Error {
-    Error::Other(format!(
-        "history buffer full ({capacity} values): more steps than the integrator was set up for"
-    ))
-}
-
 /// Direct evaluation of the history sum.
 #[derive(Debug, Clone)]
 pub struct NaiveHistory {
@@ -119,7 +113,7 @@ impl NaiveHistory {
     pub fn lag_sum(&self) -> Result<f64, Error> {
         let m = self.values.len();
         if m >= self.weights.len() {
-            return Err(full(self.weights.len()));
+            return Err(Error::HistoryFull { capacity: self.weights.len() });
         }
         // w_m e_0 + w_{m-1} e_1 + ... + w_1 e_{m-1}
         Ok(self.values.iter().zip(self.weights[1..=m].iter().rev()).map(|(e, w)| e * w).sum())
@@ -128,7 +122,7 @@ impl NaiveHistory {
     /// Append `e_m`.
     pub fn push(&mut self, value: f64) -> Result<(), Error> {
         if self.values.len() >= self.weights.len() {
-            return Err(full(self.weights.len()));
+            return Err(Error::HistoryFull { capacity: self.weights.len() });
         }
         self.values.push(value);
         Ok(())
@@ -217,7 +211,7 @@ impl FastHistory {
         let m = self.values.len();
         let cap = self.weights.len();
         if m >= cap {
-            return Err(full(cap));
+            return Err(Error::HistoryFull { capacity: cap });
         }
         if m == 0 || self.added == Some(m) {
             return Ok(self.acc[m]);
@@ -243,7 +237,7 @@ impl FastHistory {
             level
                 .forward
                 .process_with_scratch(time, freq, &mut self.scratch)
-                .map_err(|e| Error::Other(format!("fast history FFT: {e}")))?;
+                .map_err(|e| Error::HistoryFft { reason: e.to_string() })?;
             freq.iter_mut().zip(&level.spectrum).for_each(|(f, w)| *f *= w);
             // The product of two real spectra is real at DC and Nyquist up to rounding;
             // the inverse real FFT insists on exactly real.
@@ -252,7 +246,7 @@ impl FastHistory {
             level
                 .inverse
                 .process_with_scratch(freq, time, &mut self.scratch)
-                .map_err(|e| Error::Other(format!("fast history FFT: {e}")))?;
+                .map_err(|e| Error::HistoryFft { reason: e.to_string() })?;
             // Linear convolution index b - 1 + i is target m + i, free of wrap-around.
             for (a, c) in self.acc[m..m + targets].iter_mut().zip(&time[b - 1..b - 1 + targets]) {
                 *a += c;
@@ -264,7 +258,7 @@ impl FastHistory {
     /// Append `e_m`.
     pub fn push(&mut self, value: f64) -> Result<(), Error> {
         if self.values.len() >= self.weights.len() {
-            return Err(full(self.weights.len()));
+            return Err(Error::HistoryFull { capacity: self.weights.len() });
         }
         self.values.push(value);
         Ok(())

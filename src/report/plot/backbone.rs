@@ -3,7 +3,7 @@
 
 use super::{plot_err, COLORS};
 use crate::backbone::Backbone;
-use crate::error::Error;
+use crate::error::{Drawable, Error};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -17,7 +17,7 @@ pub fn backbone_svg(b: &Backbone, title: &str) -> Result<String, Error> {
     let pts: Vec<(f64, f64, f64)> =
         b.points.iter().map(|p| (p.omega, p.outputs[out].max_abs, p.damping)).collect();
     if pts.is_empty() {
-        return Err(Error::Other("no backbone points to draw".into()));
+        return Err(Error::NothingToDraw { what: Drawable::BackbonePoints });
     }
     let range = |f: fn(&(f64, f64, f64)) -> f64| {
         let (lo, hi) = pts

@@ -4,14 +4,14 @@
 
 use super::{figure_svg, Figure, Panel, Series, TimeMarker};
 use crate::backbone::CycleFamily;
-use crate::error::Error;
+use crate::error::{Drawable, Error};
 use crate::report::FreqUnit;
 use crate::results::{Curve, CurvePoint, CurveStats, Parameter};
 
 /// Draw `f` and return the SVG document.
 pub fn cycles_svg(f: &CycleFamily, title: &str) -> Result<String, Error> {
     if f.points.is_empty() {
-        return Err(Error::Other("no limit cycles to draw".into()));
+        return Err(Error::NothingToDraw { what: Drawable::LimitCycles });
     }
     let curve = Curve {
         model: f.model.clone(),

@@ -4,7 +4,7 @@
 
 use super::{plot_err, COLORS};
 use crate::bifurcation::{End, FoldCurve, FoldCurves, TurnKind};
-use crate::error::Error;
+use crate::error::{Drawable, Error};
 use plotters::prelude::*;
 
 const W: u32 = 960;
@@ -20,7 +20,7 @@ pub fn folds_svg(f: &FoldCurves, title: &str) -> Result<String, Error> {
 /// second parameter): each in its own colour, with a legend when there are several.
 pub fn folds_svg_family(family: &[(&str, &FoldCurves)], title: &str) -> Result<String, Error> {
     let Some((_, first)) = family.first() else {
-        return Err(Error::Other("no fold curves to draw".into()));
+        return Err(Error::NothingToDraw { what: Drawable::FoldCurves });
     };
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut w0, mut w1) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -103,7 +103,7 @@ pub fn trend_svg(
     title: &str,
 ) -> Result<String, Error> {
     if points.is_empty() {
-        return Err(Error::Other("no points to draw".into()));
+        return Err(Error::NothingToDraw { what: Drawable::Points });
     }
     let fold = |f: fn(f64, f64) -> f64, init: f64, sel: fn(&(f64, f64)) -> f64| {
         points.iter().map(sel).fold(init, f)

@@ -117,7 +117,7 @@ const PANEL_H: u32 = 440;
 const TITLE_H: u32 = 40;
 
 fn plot_err<E: std::fmt::Debug>(e: E) -> Error {
-    Error::Other(format!("drawing a figure failed: {e:?}"))
+    Error::Plot { reason: format!("{e:?}") }
 }
 
 /// Draw a figure and return the SVG document.

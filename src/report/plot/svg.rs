@@ -43,7 +43,7 @@ impl CurveSlots {
                 Some((start, end))
             });
             let Some((start, end)) = found else {
-                return Err(Error::Other(format!("drawing a figure failed: curve slot {k} lost")));
+                return Err(Error::CurveSlotLost { slot: k });
             };
             svg.replace_range(start..end, lines);
         }
