@@ -235,9 +235,8 @@ pub enum Error {
         omega: f64,
         /// The mode whose linear frequency is nearest the guess (1-based).
         mode: usize,
-        /// How the backbone ended, as its `ended` reads
-        /// ([`End`](crate::results::End)'s text, `stalled: ...`).
-        ended: String,
+        /// How the backbone ended.
+        ended: End,
     },
     /// The limit cycle found is no larger than ten times the amplitude its backbone
     /// started at: the mode is at its Hopf point, where the cycle shrinks to the
@@ -659,6 +658,57 @@ pub enum Stall {
     },
 }
 
+/// Why a path ended: a segment of a sweep, a fold (period-doubling, torus) curve, a
+/// backbone, a family of limit cycles. One enum for every path; each variant says
+/// which paths end that way. Its text is the JSON's `ended`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum End {
+    /// The continuation parameter reached the end of the requested range (every path
+    /// but a backbone).
+    ReachedEnd,
+    /// The continued output reached the requested amplitude (a backbone; its last
+    /// point is there).
+    ReachedAmplitude,
+    /// The response exceeded the amplitude bound (a sweep's branch climbing an
+    /// undamped asymptote, a fold climbing towards a runaway branch).
+    AmplitudeBound,
+    /// Ω reached the end of the frequency range (a fold curve).
+    LeftOmegaRange,
+    /// The curve came back to its first point (an isola of folds).
+    Closed,
+    /// A torus curve's torus frequency reached 0 or Ω/2 (a strong resonance: the
+    /// curve meets a fold or a period-doubling curve there).
+    StrongResonance,
+    /// The cycle shrank to the equilibrium (a family of limit cycles, at its Hopf
+    /// point; the last point is the smallest traced).
+    Collapsed,
+    /// A branch started by switching came back to the solutions it left (a
+    /// period-2 branch rejoining the period-1 curve at another period doubling).
+    Rejoined,
+    /// The corrector failed even at the minimum step, the step limit, or another
+    /// failure; the reason.
+    Stalled(Stall),
+    /// An observer stopped the run (what was traced is kept).
+    Stopped,
+}
+
+impl std::fmt::Display for End {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            End::ReachedEnd => write!(f, "reached end"),
+            End::ReachedAmplitude => write!(f, "reached the amplitude"),
+            End::AmplitudeBound => write!(f, "amplitude bound"),
+            End::LeftOmegaRange => write!(f, "left the frequency range"),
+            End::Closed => write!(f, "closed"),
+            End::StrongResonance => write!(f, "strong resonance"),
+            End::Collapsed => write!(f, "collapsed to the equilibrium"),
+            End::Rejoined => write!(f, "rejoined the curve it branched from"),
+            End::Stalled(why) => write!(f, "stalled: {why}"),
+            End::Stopped => write!(f, "stopped"),
+        }
+    }
+}
+
 impl From<Error> for Stall {
     /// The reason in an error met while tracing: a coefficient the model refuses and
     /// Hill's method keep their kind, anything else its message.
@@ -987,7 +1037,7 @@ mod tests {
                 Error::NoLimitCycle {
                     omega: 1.5,
                     mode: 2,
-                    ended: "stalled: step limit 500 reached".into(),
+                    ended: End::Stalled(Stall::StepLimit { steps: 500 }),
                 },
                 format!(
                     "no limit cycle near ω = {} rad/s (mode {}): {}",

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 /// Why a path could not go on: the reason of every `Stalled` end. It is defined in
 /// [`crate::error`], whose `Error::Stall` holds one: `error` imports nothing from here.
-pub use crate::error::Stall;
+pub use crate::error::{End, Stall};
 
 /// Summary of one output over one period of a periodic solution.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -24,57 +24,6 @@ pub struct OutputSummary {
     pub cos: Vec<f64>,
     /// Coefficients of sin(kΩt), k = 0..=N (`sin[0] = 0`).
     pub sin: Vec<f64>,
-}
-
-/// Why a path ended: a segment of a sweep, a fold (period-doubling, torus) curve, a
-/// backbone, a family of limit cycles. One enum for every path; each variant says
-/// which paths end that way. Its text is the JSON's `ended`.
-#[derive(Debug, Clone, PartialEq)]
-pub enum End {
-    /// The continuation parameter reached the end of the requested range (every path
-    /// but a backbone).
-    ReachedEnd,
-    /// The continued output reached the requested amplitude (a backbone; its last
-    /// point is there).
-    ReachedAmplitude,
-    /// The response exceeded the amplitude bound (a sweep's branch climbing an
-    /// undamped asymptote, a fold climbing towards a runaway branch).
-    AmplitudeBound,
-    /// Ω reached the end of the frequency range (a fold curve).
-    LeftOmegaRange,
-    /// The curve came back to its first point (an isola of folds).
-    Closed,
-    /// A torus curve's torus frequency reached 0 or Ω/2 (a strong resonance: the
-    /// curve meets a fold or a period-doubling curve there).
-    StrongResonance,
-    /// The cycle shrank to the equilibrium (a family of limit cycles, at its Hopf
-    /// point; the last point is the smallest traced).
-    Collapsed,
-    /// A branch started by switching came back to the solutions it left (a
-    /// period-2 branch rejoining the period-1 curve at another period doubling).
-    Rejoined,
-    /// The corrector failed even at the minimum step, the step limit, or another
-    /// failure; the reason.
-    Stalled(Stall),
-    /// An observer stopped the run (what was traced is kept).
-    Stopped,
-}
-
-impl std::fmt::Display for End {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            End::ReachedEnd => write!(f, "reached end"),
-            End::ReachedAmplitude => write!(f, "reached the amplitude"),
-            End::AmplitudeBound => write!(f, "amplitude bound"),
-            End::LeftOmegaRange => write!(f, "left the frequency range"),
-            End::Closed => write!(f, "closed"),
-            End::StrongResonance => write!(f, "strong resonance"),
-            End::Collapsed => write!(f, "collapsed to the equilibrium"),
-            End::Rejoined => write!(f, "rejoined the curve it branched from"),
-            End::Stalled(why) => write!(f, "stalled: {why}"),
-            End::Stopped => write!(f, "stopped"),
-        }
-    }
 }
 
 /// The per-point summary of one output on a curve.

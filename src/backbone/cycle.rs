@@ -98,11 +98,7 @@ pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
     let branch = BackboneContinuation::start(model, &bo, Goal::ZeroDamping(opts.max), opts.start)?
         .run(&mut ());
     let Some(last) = branch.points.last().filter(|_| branch.ended == End::ReachedAmplitude) else {
-        return Err(Error::NoLimitCycle {
-            omega: opts.omega,
-            mode,
-            ended: branch.ended.to_string(),
-        });
+        return Err(Error::NoLimitCycle { omega: opts.omega, mode, ended: branch.ended.clone() });
     };
     let omega = last.omega;
     if last.outputs.iter().all(|o| o.max_abs <= 10.0 * opts.start) {
