@@ -246,46 +246,55 @@ fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
         ("backbone", &["backbone", "quarter-car", "--to", "300", "--harmonics", "300"]),
         ("cycles", &["cycle", "van-der-pol", "--omega", "1", "--param", "mu", "--from", "1"]),
     ];
-    for (what, args) in runs {
-        let json = dir.join(format!("{what}.json"));
-        // The first point takes a second or so, longer while other tests load the
-        // machine: a signal before it writes nothing, so a later one is tried then.
-        let mut stopped = None;
-        for wait in [2, 5, 10] {
-            let mut cmd = Command::new(env!("CARGO_BIN_EXE_ihbm"));
-            cmd.args(args);
-            if what == "cycles" {
-                cmd.args(["--to", "-0.5", "--harmonics", "200"]);
-            }
-            let child = cmd
-                .arg("--json")
-                .arg(&json)
-                .stdout(Stdio::null())
-                .stderr(Stdio::piped())
-                .spawn()
-                .unwrap();
-            std::thread::sleep(Duration::from_secs(wait));
-            let (code, err, waited) = stop_and_wait(child, "-TERM");
-            assert!(waited < Duration::from_secs(5), "{what}: exited {waited:?} after the signal");
-            assert_eq!(code, Some(130), "{what}: {err}");
-            if json.exists() {
-                stopped = Some(err);
-                break;
-            }
-            assert!(err.contains("interrupted before the first"), "{what}: {err}");
+    // Both at once (each waits seconds for its points).
+    std::thread::scope(|scope| {
+        for (what, args) in runs {
+            let dir = &dir;
+            scope.spawn(move || {
+                let json = dir.join(format!("{what}.json"));
+                // The first point takes a second or so, longer while other tests load the
+                // machine: a signal before it writes nothing, so a later one is tried then.
+                let mut stopped = None;
+                for wait in [2, 5, 10] {
+                    let mut cmd = Command::new(env!("CARGO_BIN_EXE_ihbm"));
+                    cmd.args(args);
+                    if what == "cycles" {
+                        cmd.args(["--to", "-0.5", "--harmonics", "200"]);
+                    }
+                    let child = cmd
+                        .arg("--json")
+                        .arg(&json)
+                        .stdout(Stdio::null())
+                        .stderr(Stdio::piped())
+                        .spawn()
+                        .unwrap();
+                    std::thread::sleep(Duration::from_secs(wait));
+                    let (code, err, waited) = stop_and_wait(child, "-TERM");
+                    assert!(
+                        waited < Duration::from_secs(5),
+                        "{what}: exited {waited:?} after the signal"
+                    );
+                    assert_eq!(code, Some(130), "{what}: {err}");
+                    if json.exists() {
+                        stopped = Some(err);
+                        break;
+                    }
+                    assert!(err.contains("interrupted before the first"), "{what}: {err}");
+                }
+                let err = stopped.unwrap_or_else(|| panic!("{what}: no point in 10 s"));
+                let v: serde_json::Value =
+                    serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+                assert_eq!(v["ended"], "stopped", "{what}");
+                let n = v["points"].as_array().unwrap().len();
+                assert!(n >= 1, "{what}");
+                assert_eq!(
+                    err.trim_end(),
+                    format!("error: interrupted: the {n} point(s) traced so far are written"),
+                    "{what}"
+                );
+            });
         }
-        let err = stopped.unwrap_or_else(|| panic!("{what}: no point in 10 s"));
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        assert_eq!(v["ended"], "stopped", "{what}");
-        let n = v["points"].as_array().unwrap().len();
-        assert!(n >= 1, "{what}");
-        assert_eq!(
-            err.trim_end(),
-            format!("error: interrupted: the {n} point(s) traced so far are written"),
-            "{what}"
-        );
-    }
+    });
 }
 
 /// Send `sig` and wait for the exit: its code, its standard error, and how long it
