@@ -259,8 +259,16 @@ impl<'m, M: Model> Epmc<'m, M> {
         newton_update(&mut self.lu, &mut self.rhs, y, omega)
     }
 
+    /// The unit tangent from the LU of the last Newton step.
+    pub fn tangent(&mut self) -> Vec<f64> {
+        let d = self.dim();
+        unit_tangent(&mut self.lu, d)
+    }
+}
+
+impl<M: Model> Extended for Epmc<'_, M> {
     /// Newton from `y` on `border · y = target`; iterations used.
-    pub fn correct(
+    fn correct(
         &mut self,
         y: &mut [f64],
         border: &[f64],
@@ -272,24 +280,6 @@ impl<'m, M: Model> Epmc<'m, M> {
             let dn = self.newton_step(y, border, target)?;
             Ok((dn, self.omega(y), false))
         })
-    }
-
-    /// The unit tangent from the LU of the last Newton step.
-    pub fn tangent(&mut self) -> Vec<f64> {
-        let d = self.dim();
-        unit_tangent(&mut self.lu, d)
-    }
-}
-
-impl<M: Model> Extended for Epmc<'_, M> {
-    fn correct(
-        &mut self,
-        y: &mut [f64],
-        border: &[f64],
-        target: f64,
-        budget: usize,
-    ) -> Result<usize, Stall> {
-        Epmc::correct(self, y, border, target, budget)
     }
 
     fn tangent(&mut self, t: &mut [f64]) {

@@ -19,6 +19,7 @@
 use super::cycle::autonomous_stability;
 use super::epmc::Free;
 use super::{hopf, system, BackboneOptions, Goal, Tracer};
+use crate::continuation::path::Extended;
 use crate::continuation::tracer::LOCATE_ITER;
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};

@@ -40,7 +40,7 @@ mod hopf;
 mod stability;
 
 use crate::balance::Balance;
-use crate::continuation::path::{self, Advance, Orientation, Stepped};
+use crate::continuation::path::{self, Advance, Extended, Orientation, Stepped};
 use crate::continuation::tracer::LOCATE_ITER;
 use crate::continuation::{Control, Observer, StepSize};
 use crate::error::{Error, Result};

@@ -17,7 +17,7 @@ const EASY: usize = 2;
 /// car and the Duffing oscillator, 0.12 where a detached branch joins the quarter
 /// car's curve).
 const CUSP_OMEGA_TANGENT: f64 = 1e-6;
-use crate::continuation::path::{self, Advance, Orientation};
+use crate::continuation::path::{self, Advance, Extended, Orientation};
 use crate::continuation::tracer::{dot, LOCATE_ITER};
 
 /// How close (relative to Ω) a torus frequency may come to 0 or Ω/2 before the

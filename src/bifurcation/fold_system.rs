@@ -518,27 +518,6 @@ impl<'m, M: Model> FoldSystem<'m, M> {
         Ok(())
     }
 
-    /// Newton from `y` to the fold curve on `border · y = target`; iterations used.
-    pub fn correct(
-        &mut self,
-        y: &mut [f64],
-        border: &[f64],
-        target: f64,
-        budget: usize,
-    ) -> Result<usize, Stall> {
-        let tol = self.tol;
-        iterate(budget, tol, |it, prev| {
-            let dn = self.newton_step(y, border, target)?;
-            // Where the extended system is ill conditioned (near a point where two
-            // fold curves meet), rounding alone moves the iterate by more than `tol`
-            // (measured: updates of 1e-10 to 5e-10 going round at residuals of 1e-12
-            // on the quarter car). An update that stopped shrinking at such a level,
-            // with both residuals at rounding level, is converged.
-            let floor = self.last_residual <= ROUNDING_RESIDUAL && dn <= ROUNDING_STEP;
-            Ok((dn, self.omega(y), it >= 2 && dn > 0.5 * prev && floor))
-        })
-    }
-
     /// The unit tangent from the LU of the last Newton step (oriented along its border).
     pub fn tangent(&mut self) -> Vec<f64> {
         let d = self.dim();
@@ -597,6 +576,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 }
 
 impl<M: Model> Extended for FoldSystem<'_, M> {
+    /// Newton from `y` to the fold curve on `border · y = target`; iterations used.
     fn correct(
         &mut self,
         y: &mut [f64],
@@ -604,7 +584,17 @@ impl<M: Model> Extended for FoldSystem<'_, M> {
         target: f64,
         budget: usize,
     ) -> Result<usize, Stall> {
-        FoldSystem::correct(self, y, border, target, budget)
+        let tol = self.tol;
+        iterate(budget, tol, |it, prev| {
+            let dn = self.newton_step(y, border, target)?;
+            // Where the extended system is ill conditioned (near a point where two
+            // fold curves meet), rounding alone moves the iterate by more than `tol`
+            // (measured: updates of 1e-10 to 5e-10 going round at residuals of 1e-12
+            // on the quarter car). An update that stopped shrinking at such a level,
+            // with both residuals at rounding level, is converged.
+            let floor = self.last_residual <= ROUNDING_RESIDUAL && dn <= ROUNDING_STEP;
+            Ok((dn, self.omega(y), it >= 2 && dn > 0.5 * prev && floor))
+        })
     }
 
     fn tangent(&mut self, t: &mut [f64]) {
