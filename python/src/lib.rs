@@ -505,10 +505,15 @@ impl NativeModel {
     ) -> PyResult<(String, Option<Py<PyAny>>)> {
         let m = self.configured(&set)?;
         let s = BackboneSettings { mode, output, to, harmonics };
-        let (b, stopped_by) = watched(py, progress, move |obs| m.backbone(&s, obs), |b| {
-            let size = b.points.last().and_then(|p| p.outputs.get(b.output));
-            (b.points.len(), size.map_or(f64::NAN, |o| o.max_abs))
-        })?;
+        let (b, stopped_by) = watched(
+            py,
+            progress,
+            move |obs| m.backbone(&s, obs),
+            |b| {
+                let size = b.points.last().and_then(|p| p.outputs.get(b.output));
+                (b.points.len(), size.map_or(f64::NAN, |o| o.max_abs))
+            },
+        )?;
         Ok((json_text(&report::backbone_json(&b)), stopped_by))
     }
 
@@ -594,9 +599,12 @@ impl NativeModel {
             harmonics,
             ..Default::default()
         };
-        let (f, stopped_by) = watched(py, progress, move |obs| m.cycles(&opts, obs), |f| {
-            (f.points.len(), f.points.last().map_or(f64::NAN, |p| p.value))
-        })?;
+        let (f, stopped_by) = watched(
+            py,
+            progress,
+            move |obs| m.cycles(&opts, obs),
+            |f| (f.points.len(), f.points.last().map_or(f64::NAN, |p| p.value)),
+        )?;
         Ok((json_text(&report::cycles_json(&f)), stopped_by))
     }
 }
