@@ -261,8 +261,9 @@ impl<'m, M: Model> Epmc<'m, M> {
 
     /// The unit tangent from the LU of the last Newton step.
     pub fn tangent(&mut self) -> Vec<f64> {
-        let d = self.dim();
-        unit_tangent(&mut self.lu, d)
+        let mut t = vec![0.0; self.dim()];
+        unit_tangent(&mut self.lu, &mut t);
+        t
     }
 }
 
@@ -283,6 +284,6 @@ impl<M: Model> Extended for Epmc<'_, M> {
     }
 
     fn tangent(&mut self, t: &mut [f64]) {
-        t.copy_from_slice(&Epmc::tangent(self));
+        unit_tangent(&mut self.lu, t);
     }
 }

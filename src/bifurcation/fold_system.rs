@@ -520,8 +520,9 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 
     /// The unit tangent from the LU of the last Newton step (oriented along its border).
     pub fn tangent(&mut self) -> Vec<f64> {
-        let d = self.dim();
-        unit_tangent(&mut self.lu_k, d)
+        let mut t = vec![0.0; self.dim()];
+        unit_tangent(&mut self.lu_k, &mut t);
+        t
     }
 
     /// Renew the borders from the null vectors of the last test function.
@@ -598,6 +599,6 @@ impl<M: Model> Extended for FoldSystem<'_, M> {
     }
 
     fn tangent(&mut self, t: &mut [f64]) {
-        t.copy_from_slice(&FoldSystem::tangent(self));
+        unit_tangent(&mut self.lu_k, t);
     }
 }

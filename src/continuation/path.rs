@@ -1,13 +1,15 @@
-//! The predictor–corrector step that fold (period-doubling, torus) curves,
-//! backbones and families of limit cycles share: each is an extended system
-//! ([`Extended`]: `n` equations in `n + 1` unknowns, corrected with one more row),
-//! and [`advance`] takes one pseudo-arclength step along it.
+//! The predictor–corrector step every path takes — a frequency or parameter sweep,
+//! fold (period-doubling, torus) curves, backbones, families of limit cycles: each
+//! is an extended system ([`Extended`]: `n` equations in `n + 1` unknowns, corrected
+//! with one more row), and [`advance_with`] takes one pseudo-arclength step along it.
 //!
-//! A step predicts along the unit tangent, corrects on the row `t · y = t · y₀ + h`,
-//! and takes the new tangent; it halves `h` when the corrector fails or the tangent
-//! turns by more than [`StepSize::rejects_turn`] allows, and gives up below the
-//! smallest step with the corrector's reason. What happens to an accepted point
-//! (its events, the next step's size, the end of the path) is the caller's.
+//! A step predicts with the path's own predictor (the sweep's second-order tangent
+//! or secant; `y + h t` for the others, [`advance`]), corrects on the row
+//! `border · y = border · y₀ + h`, and takes the new tangent; it halves `h` when the
+//! corrector fails or the tangent turns by more than [`StepSize::rejects_turn`]
+//! allows, and gives up below the smallest step with the corrector's reason. What
+//! happens to an accepted point (its events, the next step's size, the end of the
+//! path) is the caller's.
 
 use super::tracer::{dot, Tracer};
 use super::StepSize;

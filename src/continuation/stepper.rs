@@ -519,6 +519,10 @@ impl<'m, M: Model> Continuation<'m, M> {
         );
         let last = self.nodes.len() - 1;
         let budget = self.tr.max_iter;
+        // The end of the range a point lies beyond, if any.
+        let outside = move |y: &[f64]| {
+            (y[n] > hi_s || y[n] < lo_s).then_some(if y[n] > hi_s { hi_s } else { lo_s })
+        };
         let ended = 'step: {
             if self.trace.stats.steps >= self.opts.max_steps {
                 break 'step Some(End::Stalled(Stall::StepLimit { steps: self.opts.max_steps }));
@@ -541,11 +545,6 @@ impl<'m, M: Model> Continuation<'m, M> {
                     }
                 }
             };
-            // A prediction beyond the range: land on its end from inside instead of
-            // correcting out there (the model is never evaluated outside the range).
-            let leaves = |y: &[f64]| {
-                (y[n] > hi_s || y[n] < lo_s).then_some(if y[n] > hi_s { hi_s } else { lo_s })
-            };
             let s = path::Step {
                 border: &dirv,
                 base: dot(&dirv, &nd.y),
@@ -561,7 +560,9 @@ impl<'m, M: Model> Continuation<'m, M> {
                 &mut h,
                 &mut stats.rejected_steps,
                 predict,
-                leaves,
+                // A prediction beyond the range: land on its end from inside instead
+                // of correcting out there (the model is never evaluated outside it).
+                outside,
                 &mut y,
                 &mut t,
             );
@@ -575,8 +576,7 @@ impl<'m, M: Model> Continuation<'m, M> {
             };
             self.trace.stats.steps += 1;
             // Left the range: land exactly on its end.
-            if y[n] > hi_s || y[n] < lo_s {
-                let b = if y[n] > hi_s { hi_s } else { lo_s };
+            if let Some(b) = outside(&y) {
                 break 'step Some(self.land_on_end(last, b, &y, &dirv, seg));
             }
             // A switched branch that crossed back through the solutions it left ends

@@ -425,15 +425,15 @@ pub(crate) fn iterate(
     Err(Stall::NoConvergence { iterations: budget, omega })
 }
 
-/// The unit tangent of a curve from the LU (in `lu`) of its last Newton matrix,
-/// whose last row is the arc-length condition.
-pub(crate) fn unit_tangent(lu: &mut DenseLu, dim: usize) -> Vec<f64> {
-    let mut t = vec![0.0; dim];
+/// The unit tangent of a curve, into `t` (of the matrix's order), from the LU (in
+/// `lu`) of its last Newton matrix, whose last row is the arc-length condition.
+pub(crate) fn unit_tangent(lu: &mut DenseLu, t: &mut [f64]) {
+    let dim = t.len();
+    t.fill(0.0);
     t[dim - 1] = 1.0;
-    lu.solve(&mut t);
-    let norm = dot(&t, &t).sqrt();
+    lu.solve(t);
+    let norm = dot(t, t).sqrt();
     t.iter_mut().for_each(|v| *v /= norm);
-    t
 }
 
 /// The unit vector along the parameter axis (`n` coefficients, then the parameter).

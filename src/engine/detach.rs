@@ -111,20 +111,11 @@ impl TraceCopy {
     }
 
     /// An observer that publishes every event's trace here, then asks `inner`.
-    pub fn watching<'a, O: Observer + 'a>(&'a self, inner: O) -> impl Observer + 'a {
-        Watching { copy: self, inner }
-    }
-}
-
-struct Watching<'a, O> {
-    copy: &'a TraceCopy,
-    inner: O,
-}
-
-impl<O: Observer> Observer for Watching<'_, O> {
-    fn observe(&mut self, event: &Event, trace: &Trace) -> crate::continuation::Control {
-        self.copy.publish(trace);
-        self.inner.observe(event, trace)
+    pub fn watching<'a, O: Observer + 'a>(&'a self, mut inner: O) -> impl Observer + 'a {
+        move |event: &Event, trace: &Trace| {
+            self.publish(trace);
+            inner.observe(event, trace)
+        }
     }
 }
 
