@@ -1,6 +1,8 @@
-//! The price of a model behind a pointer ([`BoxedModel`], what the command line,
-//! studies and Python run): the same quarter-car computations with the model type
-//! known (monomorphised) and erased (one indirect call per residual evaluation).
+//! The price of a model behind the [`BoxedModel`] handle (what the command line,
+//! studies and Python hold): the same quarter-car computations with the model passed
+//! as itself ("typed": `&QuarterCar`, which the solvers take as `&dyn DynModel`, one
+//! indirect call per residual evaluation) and through the handle ("boxed": `&boxed`,
+//! a second indirect call; `boxed.as_dyn()` avoids it, as the application does).
 use criterion::{criterion_group, criterion_main, Criterion};
 use ihbm::balance::{linearized_guess, Balance};
 use ihbm::continuation::{sweep, SweepOptions};

@@ -8,7 +8,7 @@
 use crate::balance::{check_inputs, linearized_on, Balance};
 use crate::error::{Error, IterationRecord, Result};
 use crate::linalg::DenseLu;
-use crate::model::Model;
+use crate::model::DynModel;
 use crate::outputs::OutputEval;
 use crate::results::OutputSummary;
 
@@ -68,8 +68,8 @@ pub(crate) fn norm(v: &[f64]) -> f64 {
 ///
 /// `a` holds the initial guess on entry and the last iterate on exit (converged or
 /// not). `scale` is the residual scale for the residual test (the forcing norm).
-pub fn newton<M: Model>(
-    hb: &mut Balance<'_, M>,
+pub fn newton(
+    hb: &mut Balance<'_>,
     lu: &mut DenseLu,
     a: &mut [f64],
     omega: f64,
@@ -155,8 +155,8 @@ pub fn newton<M: Model>(
 /// let z1 = &sol.outputs(&car)[0];
 /// assert!((z1.max_abs - 0.02297).abs() < 1e-4);
 /// ```
-pub fn solve<M: Model>(
-    model: &M,
+pub fn solve(
+    model: &dyn DynModel,
     omega: f64,
     opts: &SolveOptions,
     guess: Option<&[f64]>,
@@ -197,8 +197,8 @@ pub fn solve<M: Model>(
 }
 
 /// The coefficient vector (`2N + 1`) of output `output` of `model`.
-pub fn output_coeffs<M: Model>(
-    model: &M,
+pub fn output_coeffs(
+    model: &dyn DynModel,
     coeffs: &[f64],
     harmonics: usize,
     output: usize,
@@ -207,8 +207,8 @@ pub fn output_coeffs<M: Model>(
 }
 
 /// Summaries (`max_abs`, mean, first-harmonic amplitude, coefficients) of every output.
-pub fn output_summaries<M: Model>(
-    model: &M,
+pub fn output_summaries(
+    model: &dyn DynModel,
     coeffs: &[f64],
     harmonics: usize,
 ) -> Vec<OutputSummary> {
@@ -217,7 +217,7 @@ pub fn output_summaries<M: Model>(
 
 impl Solution {
     /// Summaries of every output of `model` (the model this solution came from).
-    pub fn outputs<M: Model>(&self, model: &M) -> Vec<OutputSummary> {
+    pub fn outputs(&self, model: &dyn DynModel) -> Vec<OutputSummary> {
         output_summaries(model, &self.coeffs, self.harmonics)
     }
 }

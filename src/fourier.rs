@@ -10,7 +10,7 @@
 //! eq. (27a) swaps `cos(pπ/2)` and `sin(pπ/2)`, and `0^p` is 1 only for p = 0).
 
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use num_complex::Complex64;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::f64::consts::PI;
@@ -69,7 +69,7 @@ pub fn sample_count(degree: usize, harmonics: usize, max_forcing: usize) -> usiz
 /// // no parametric term: the same as sample_count
 /// assert_eq!(model_sample_count(&Duffing::default(), 5, 1), sample_count(3, 5, 1));
 /// ```
-pub fn model_sample_count<M: Model + ?Sized>(model: &M, harmonics: usize, period: usize) -> usize {
+pub fn model_sample_count(model: &dyn DynModel, harmonics: usize, period: usize) -> usize {
     let period = period.max(1);
     samples(
         model.degree(),

@@ -9,7 +9,7 @@
 
 use crate::error::{Error, LinearisationFailure, Result};
 use crate::linalg::DenseLu;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use faer::Mat;
 use num_complex::Complex64;
 use num_dual::Dual64;
@@ -26,7 +26,7 @@ pub(crate) struct Linearisation {
 impl Linearisation {
     /// At rest, for the model's current parameters, at frequency `omega` (which only
     /// matters for coefficients that depend on Ω).
-    pub fn at_rest<M: Model>(model: &M, omega: f64) -> Linearisation {
+    pub fn at_rest(model: &dyn DynModel, omega: f64) -> Linearisation {
         let ndof = model.dofs().len();
         let signals = model.signals();
         let nsig = signals.len();
@@ -108,7 +108,7 @@ pub(crate) struct LinearMode {
 /// eigenproblem `K(ω) φ = ω² M φ` with `K(ω) = Re Z(iω) + ω² M` (the fractional
 /// terms' stiffness at the mode's own frequency), iterated to a fixed point, and
 /// `ξ = φᵀ Im Z(iω) φ / (ω φᵀ M φ)`. A start, refined by the harmonic balance.
-pub(crate) fn linear_mode<M: Model>(model: &M, k: usize) -> Result<LinearMode> {
+pub(crate) fn linear_mode(model: &dyn DynModel, k: usize) -> Result<LinearMode> {
     let lin0 = Linearisation::at_rest(model, 1.0);
     let nd = lin0.ndof;
     if k == 0 || k > nd {

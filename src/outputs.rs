@@ -5,7 +5,7 @@
 //! continuation's per-point ones are the same computation.
 
 use crate::fourier::{coeff_len, MaxAbs};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use crate::results::{OutputSummary, PointOutput};
 
 /// Evaluates every output of one model at `N` harmonics.
@@ -19,7 +19,7 @@ pub struct OutputEval {
 
 impl OutputEval {
     /// The outputs of `model` at `harmonics` harmonics.
-    pub fn new<M: Model>(model: &M, harmonics: usize) -> Self {
+    pub fn new(model: &dyn DynModel, harmonics: usize) -> Self {
         OutputEval {
             harmonics,
             peaks: MaxAbs::new(harmonics),

@@ -13,7 +13,7 @@
 use super::{Backbone, BackboneContinuation, BackboneOptions, End, Goal};
 use crate::balance::Balance;
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use crate::outputs::OutputEval;
 use crate::results::{OutputSummary, Stability, Unknown};
 use crate::stability::{Hill, StabilityOptions};
@@ -75,7 +75,7 @@ pub struct Cycle {
 /// modes are not oscillatory), and when no cycle is found: the mode's artificial
 /// damping keeps its sign up to the largest amplitude searched (no self-excitation),
 /// or the branch fails before (the reason, and where).
-pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
+pub fn cycle(model: &dyn DynModel, opts: &CycleOptions) -> Result<Cycle> {
     if !(opts.omega > 0.0 && opts.omega.is_finite()) {
         return Err(Error::InvalidValue {
             what: "frequency guess".into(),
@@ -128,8 +128,8 @@ pub fn cycle<M: Model>(model: &M, opts: &CycleOptions) -> Result<Cycle> {
 }
 
 /// Hill's method at the cycle, with the exponent nearest 0 (the phase) left out.
-pub(super) fn autonomous_stability<M: Model>(
-    model: &M,
+pub(super) fn autonomous_stability(
+    model: &dyn DynModel,
     harmonics: usize,
     coeffs: &[f64],
     omega: f64,

@@ -25,7 +25,6 @@ use crate::balance::Balance;
 use crate::continuation::path::Extended;
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::linalg::DenseLu;
-use crate::model::Model;
 use crate::results::Stall;
 use faer::prelude::ReborrowMut;
 
@@ -38,8 +37,8 @@ pub(crate) enum Free {
     Param { index: usize, scale: f64 },
 }
 
-pub(crate) struct Epmc<'m, M: Model> {
-    pub bal: Balance<'m, M>,
+pub(crate) struct Epmc<'m> {
+    pub bal: Balance<'m>,
     pub n: usize,
     nh: usize,
     ndof: usize,
@@ -67,8 +66,8 @@ pub(crate) struct Epmc<'m, M: Model> {
     rhs: Vec<f64>,
 }
 
-impl<'m, M: Model> Epmc<'m, M> {
-    pub fn new(bal: Balance<'m, M>, mass: Vec<f64>, phase: usize, tol: f64) -> Self {
+impl<'m> Epmc<'m> {
+    pub fn new(bal: Balance<'m>, mass: Vec<f64>, phase: usize, tol: f64) -> Self {
         let n = bal.len();
         let nh = bal.harmonics();
         let ndof = n / (2 * nh + 1);
@@ -267,7 +266,7 @@ impl<'m, M: Model> Epmc<'m, M> {
     }
 }
 
-impl<M: Model> Extended for Epmc<'_, M> {
+impl Extended for Epmc<'_> {
     /// Newton from `y` on `border · y = target`; iterations used.
     fn correct(
         &mut self,

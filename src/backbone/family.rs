@@ -24,6 +24,7 @@ use crate::continuation::tracer::LOCATE_ITER;
 use crate::continuation::{Control, Observer};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::model::{DynModel, WithParams};
 use crate::outputs::OutputEval;
 use crate::results::{End, PointOutput, Stability, Stall, Unknown};
 
@@ -142,15 +143,15 @@ pub struct CycleFamily {
 /// outside the parameter's domain, a frequency guess that is not positive) and when there is no cycle at `opts.from`
 /// near the guess, or it is the equilibrium itself. A family that ends before `to`
 /// is not an error: it says why ([`CycleFamily::ended`]) and keeps its points.
-pub fn cycles<M: Model + Clone>(model: &M, opts: &FamilyOptions) -> Result<CycleFamily> {
+pub fn cycles(model: &dyn DynModel, opts: &FamilyOptions) -> Result<CycleFamily> {
     cycles_with(model, opts, &mut ())
 }
 
 /// [`cycles`], reporting every point to `observer`, which may stop the run (what is
 /// traced is returned, ended [`End::Stopped`], with the Hopf point in the
 /// range covered).
-pub fn cycles_with<M: Model + Clone>(
-    model: &M,
+pub fn cycles_with(
+    model: &dyn DynModel,
     opts: &FamilyOptions,
     observer: &mut dyn Observer<FamilyEvent, CycleFamily>,
 ) -> Result<CycleFamily> {
@@ -196,11 +197,11 @@ pub enum FamilyEvent {
 /// assert_eq!((f.points.len(), f.ended.to_string().as_str()), (5, "stopped"));
 /// assert!(f.hopf.unwrap().value.abs() < 1e-8); // the equilibrium turns at mu = 0
 /// ```
-pub struct CycleContinuation<'m, M: Model + Clone> {
-    model: &'m M,
+pub struct CycleContinuation<'m> {
+    model: &'m dyn DynModel,
     opts: FamilyOptions,
     index: usize,
-    tracer: Tracer<'m, M>,
+    tracer: Tracer<'m>,
     /// The last accepted point and its tangent.
     y: Vec<f64>,
     t: Vec<f64>,
@@ -213,9 +214,9 @@ pub struct CycleContinuation<'m, M: Model + Clone> {
     done: bool,
 }
 
-impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
+impl<'m> CycleContinuation<'m> {
     /// Check the options and find the first cycle; errors as [`cycles`].
-    pub fn new(model: &'m M, opts: &FamilyOptions) -> Result<Self> {
+    pub fn new(model: &'m dyn DynModel, opts: &FamilyOptions) -> Result<Self> {
         let index = model.param_index(&opts.param)?;
         let (from, to) = (opts.from, opts.to);
         if !(from.is_finite() && to.is_finite() && from != to) {
@@ -231,7 +232,7 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
             let what = format!("end of the range of {}", opts.param);
             crate::model::check_domain(model.name(), info, &what, v)?;
         }
-        let mut m0 = model.clone();
+        let mut m0 = WithParams::new(model);
         m0.set_param_value(index, from);
         let co = super::CycleOptions {
             omega: opts.omega,
@@ -421,7 +422,7 @@ impl<'m, M: Model + Clone> CycleContinuation<'m, M> {
     fn cycle_at(&mut self, y: &[f64]) -> CyclePoint {
         let p = self.tracer.point(y);
         let value = self.tracer.sys.param(y);
-        let mut mp = self.model.clone();
+        let mut mp = WithParams::new(self.model);
         mp.set_param_value(self.index, value);
         let stability = match autonomous_stability(&mp, self.opts.harmonics, &p.coeffs, p.omega) {
             Ok((s, _)) => s,

@@ -12,13 +12,14 @@
 
 use super::{linear_mode, Hopf, Linearisation};
 use crate::model::Model;
+use crate::model::{DynModel, WithParams};
 use num_complex::Complex64;
 
 /// The Hopf point of mode `mode` (1-based) of `model` between consecutive `values`
 /// of parameter `index` (in the order given: the pair is followed along them), or
 /// `None` when `Re λ` keeps its sign (or the pair is lost).
-pub(crate) fn locate<M: Model + Clone>(
-    model: &M,
+pub(crate) fn locate(
+    model: &dyn DynModel,
     index: usize,
     mode: usize,
     values: &[f64],
@@ -43,8 +44,8 @@ pub(crate) fn locate<M: Model + Clone>(
 
 /// `Re λ(P) = 0` between `a` and `b` (values with their eigenvalues, of opposite
 /// signs), by the Illinois method.
-fn bisect<M: Model + Clone>(
-    model: &M,
+fn bisect(
+    model: &dyn DynModel,
     index: usize,
     mode: usize,
     a: (f64, Complex64),
@@ -78,14 +79,14 @@ fn bisect<M: Model + Clone>(
 
 /// The eigenvalue of mode `mode` at parameter value `v`, by Newton on `det Z(λ)`
 /// from `guess` (or the linear mode's estimate).
-fn eigenvalue<M: Model + Clone>(
-    model: &M,
+fn eigenvalue(
+    model: &dyn DynModel,
     index: usize,
     mode: usize,
     v: f64,
     guess: Option<Complex64>,
 ) -> Option<Complex64> {
-    let mut m = model.clone();
+    let mut m = WithParams::new(model);
     m.set_param_value(index, v);
     let mut lam = match guess {
         Some(g) => g,

@@ -45,7 +45,7 @@ use crate::continuation::tracer::LOCATE_ITER;
 use crate::continuation::{Control, Observer, StepSize};
 use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use crate::outputs::OutputEval;
 pub use crate::results::End;
 use crate::results::{PointOutput, Stability, Stall, Unknown};
@@ -220,14 +220,14 @@ pub struct Backbone {
 /// amplitude that is not positive, a mode that is not oscillatory at rest) and when
 /// the start does not converge. A backbone that cannot reach the amplitude (it turns
 /// back or runs away) ends [`End::Stalled`] with what was traced.
-pub fn backbone<M: Model>(model: &M, opts: &BackboneOptions) -> Result<Backbone> {
+pub fn backbone(model: &dyn DynModel, opts: &BackboneOptions) -> Result<Backbone> {
     backbone_with(model, opts, &mut ())
 }
 
 /// [`backbone`], reporting every event to `observer`, which may stop the run (what is
 /// traced is returned, ended [`End::Stopped`]).
-pub fn backbone_with<M: Model>(
-    model: &M,
+pub fn backbone_with(
+    model: &dyn DynModel,
     opts: &BackboneOptions,
     observer: &mut dyn Observer<BackboneEvent, Backbone>,
 ) -> Result<Backbone> {
@@ -273,8 +273,8 @@ pub enum BackboneEvent {
 /// assert_eq!(b.ended.to_string(), "stopped");
 /// assert!(b.points.last().unwrap().omega > 1.1);
 /// ```
-pub struct BackboneContinuation<'m, M: Model> {
-    tracer: Tracer<'m, M>,
+pub struct BackboneContinuation<'m> {
+    tracer: Tracer<'m>,
     /// The last accepted point and its tangent.
     y: Vec<f64>,
     t: Vec<f64>,
@@ -284,10 +284,10 @@ pub struct BackboneContinuation<'m, M: Model> {
     done: bool,
 }
 
-impl<'m, M: Model> BackboneContinuation<'m, M> {
+impl<'m> BackboneContinuation<'m> {
     /// Check the options and converge the start (the linear mode at
     /// [`BackboneOptions::start`] of the amplitude); errors as [`backbone`].
-    pub fn new(model: &'m M, opts: &BackboneOptions) -> Result<Self> {
+    pub fn new(model: &'m dyn DynModel, opts: &BackboneOptions) -> Result<Self> {
         if !(opts.to > 0.0 && opts.to.is_finite()) {
             return Err(Error::InvalidValue {
                 what: "backbone amplitude".into(),
@@ -299,7 +299,12 @@ impl<'m, M: Model> BackboneContinuation<'m, M> {
     }
 
     /// Continue mode `opts.mode` from the output amplitude `start` until `goal`.
-    fn start(model: &'m M, opts: &BackboneOptions, goal: Goal, start: f64) -> Result<Self> {
+    fn start(
+        model: &'m dyn DynModel,
+        opts: &BackboneOptions,
+        goal: Goal,
+        start: f64,
+    ) -> Result<Self> {
         model.validate()?;
         let outputs = model.outputs();
         if opts.output >= outputs.len() {
@@ -442,14 +447,14 @@ impl<'m, M: Model> BackboneContinuation<'m, M> {
 /// at the first value of the parameter `param` a family frees, which the balance of
 /// `model` takes too). The phase fixes the sine of harmonic 1 of the mode's largest
 /// DOF, so two systems of the same model and mode share it.
-fn system<'m, M: Model>(
-    model: &'m M,
-    rest: &M,
+fn system<'m>(
+    model: &'m dyn DynModel,
+    rest: &dyn DynModel,
     param: Option<(usize, f64)>,
     mode: usize,
     harmonics: usize,
     tol: f64,
-) -> Result<(Epmc<'m, M>, crate::linearisation::LinearMode, Vec<f64>)> {
+) -> Result<(Epmc<'m>, crate::linearisation::LinearMode, Vec<f64>)> {
     let lm = linear_mode(rest, mode)?;
     let mut bal = Balance::new(model, harmonics)?;
     if let Some((index, value)) = param {
@@ -476,8 +481,8 @@ fn system<'m, M: Model>(
     Ok((sys, lm, mass))
 }
 
-struct Tracer<'m, M: Model> {
-    sys: Epmc<'m, M>,
+struct Tracer<'m> {
+    sys: Epmc<'m>,
     eval: OutputEval,
     h: f64,
     opts: BackboneOptions,
@@ -488,7 +493,7 @@ struct Tracer<'m, M: Model> {
     stability: Option<stability::ModeStability>,
 }
 
-impl<M: Model> Tracer<'_, M> {
+impl Tracer<'_> {
     fn point(&mut self, y: &[f64]) -> ModePoint {
         let coeffs = self.sys.coeffs(y);
         let mut outputs = Vec::new();

@@ -22,7 +22,7 @@
 
 use crate::balance::Balance;
 use crate::error::Result;
-use crate::model::Model;
+use crate::model::DynModel;
 use crate::results::{Stability, Unknown};
 use crate::stability::{Hill, StabilityOptions};
 use num_complex::Complex64;
@@ -41,16 +41,16 @@ pub(crate) struct ModeStability {
 }
 
 impl ModeStability {
-    pub fn new<M: Model>(model: &M, harmonics: usize) -> Result<ModeStability> {
+    pub fn new(model: &dyn DynModel, harmonics: usize) -> Result<ModeStability> {
         Ok(ModeStability { hill: Hill::new(model, harmonics)? })
     }
 
     /// The verdict at the point `coeffs` with frequency `omega` and artificial
     /// damping `xi`, and the exponents other than the phase's (empty without a
     /// verdict).
-    pub fn at<M: Model>(
+    pub fn at(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         coeffs: &[f64],
         omega: f64,
         xi: f64,

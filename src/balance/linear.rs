@@ -3,7 +3,7 @@
 use super::{check_inputs, Balance};
 use crate::error::{Error, Result};
 use crate::fourier::{coeff_len, spectral_factor};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use num_complex::Complex64;
 
 /// The exact periodic solution of the model linearized about zero: per harmonic, the
@@ -21,7 +21,7 @@ use num_complex::Complex64;
 /// let x = num_complex::Complex64::new(m.F, 0.0) / den;
 /// assert!((a[1] - x.re).abs() < 1e-14 && (a[4] + x.im).abs() < 1e-14);
 /// ```
-pub fn linearized_guess<M: Model>(model: &M, omega: f64, harmonics: usize) -> Result<Vec<f64>> {
+pub fn linearized_guess(model: &dyn DynModel, omega: f64, harmonics: usize) -> Result<Vec<f64>> {
     check_inputs(harmonics, omega)?;
     let mut hb = Balance::new(model, harmonics)?;
     Ok(linearized_on(&mut hb, omega)?.0)
@@ -29,10 +29,7 @@ pub fn linearized_guess<M: Model>(model: &M, omega: f64, harmonics: usize) -> Re
 
 /// [`linearized_guess`] on an existing [`Balance`]; also returns `R(0)`, the residual
 /// at rest (minus the forcing), which the corrector uses as its residual scale.
-pub(crate) fn linearized_on<M: Model>(
-    hb: &mut Balance<'_, M>,
-    omega: f64,
-) -> Result<(Vec<f64>, Vec<f64>)> {
+pub(crate) fn linearized_on(hb: &mut Balance<'_>, omega: f64) -> Result<(Vec<f64>, Vec<f64>)> {
     let model = hb.model;
     let (n, ndof, nsig, m) = (hb.n, hb.ndof, hb.nsig, hb.m);
     let l = coeff_len(n);

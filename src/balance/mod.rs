@@ -15,7 +15,7 @@
 use crate::error::{Error, Result};
 use crate::fourier::{apply_factor, coeff_len, model_sample_count, spectral_factor, Fourier};
 use crate::linalg::Columns;
-use crate::model::{Model, Order};
+use crate::model::{DynModel, Model, Order};
 use faer::MatMut;
 use num_complex::Complex64;
 use num_dual::Dual64;
@@ -47,8 +47,8 @@ pub use size::{check_size, MEMORY_LIMIT};
 /// // at rest, the residual is minus the forcing: -F cos θ
 /// assert!((r[1] + model.F).abs() < 1e-15);
 /// ```
-pub struct Balance<'m, M: Model> {
-    model: &'m M,
+pub struct Balance<'m> {
+    model: &'m dyn DynModel,
     n: usize,
     ndof: usize,
     nsig: usize,
@@ -105,7 +105,7 @@ pub struct Balance<'m, M: Model> {
     reads: Vec<bool>,
 }
 
-impl<M: Model> std::fmt::Debug for Balance<'_, M> {
+impl std::fmt::Debug for Balance<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
@@ -130,9 +130,9 @@ pub fn check_inputs(harmonics: usize, omega: f64) -> Result<()> {
     Ok(())
 }
 
-impl<'m, M: Model> Balance<'m, M> {
+impl<'m> Balance<'m> {
     /// Buffers and FFT plans for `model` with `harmonics` harmonics.
-    pub fn new(model: &'m M, harmonics: usize) -> Result<Self> {
+    pub fn new(model: &'m dyn DynModel, harmonics: usize) -> Result<Self> {
         Self::with_period(model, harmonics, 1)
     }
 
@@ -140,7 +140,7 @@ impl<'m, M: Model> Balance<'m, M> {
     /// frequency argument is `ω = Ω/period` and its harmonics are those of `ω` (a
     /// period-1 solution has only every `period`-th of them). `period = 2` is the
     /// branch a period doubling opens ([`crate::bifurcation::period_two`]).
-    pub fn with_period(model: &'m M, harmonics: usize, period: usize) -> Result<Self> {
+    pub fn with_period(model: &'m dyn DynModel, harmonics: usize, period: usize) -> Result<Self> {
         check_inputs(harmonics, 1.0)?;
         if period == 0 {
             return Err(Error::InvalidValue {
@@ -266,7 +266,7 @@ impl<'m, M: Model> Balance<'m, M> {
     }
 
     /// The model.
-    pub fn model(&self) -> &'m M {
+    pub fn model(&self) -> &'m dyn DynModel {
         self.model
     }
 

@@ -42,7 +42,7 @@ pub struct BilinearWork {
 
 impl BilinearWork {
     /// Buffers for `bal`.
-    pub fn new<M: Model>(bal: &Balance<'_, M>) -> Self {
+    pub fn new(bal: &Balance<'_>) -> Self {
         let (m, nsig, n) = (bal.m, bal.nsig, bal.len());
         let len = 2 * bal.n + 1;
         let zero = HyperDual64::new(0.0, 0.0, 0.0, 0.0);
@@ -82,7 +82,7 @@ enum Factor {
     DOrder,
 }
 
-impl<M: Model> Balance<'_, M> {
+impl Balance<'_> {
     /// The gradient of `ψ = wᵀ J(a, Ω, θ) v` (`J = ∂R/∂a`) at fixed `w` and `v`:
     /// `∂ψ/∂a` into `d_a`, and `(∂ψ/∂Ω, ∂ψ/∂θ_param)` returned (the second 0 without
     /// a parameter). Exact (hyper-dual numbers); `n + 2` passes over the samples.
@@ -403,7 +403,7 @@ mod tests {
     use faer::Mat;
 
     /// `wᵀ J v` at `(a, Ω)` with the model's parameters as set in `bal`.
-    fn psi(bal: &mut Balance<'_, QuarterCar>, a: &[f64], omega: f64, w: &[f64], v: &[f64]) -> f64 {
+    fn psi(bal: &mut Balance<'_>, a: &[f64], omega: f64, w: &[f64], v: &[f64]) -> f64 {
         let n = a.len();
         let mut j = Mat::<f64>::zeros(n, n);
         let mut r = vec![0.0; n];

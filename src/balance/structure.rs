@@ -4,7 +4,7 @@
 
 use super::Balance;
 use crate::error::{Claim, Error, Result};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use num_dual::Dual64;
 
 fn wrong(model: &str, claim: Claim, detail: String) -> Error {
@@ -26,9 +26,9 @@ struct Probe<'a> {
 impl Probe<'_> {
     /// `∂r_e/∂s0` for every equation (the dual parts of `out`) with the signals at
     /// `values`, seeding only signal `s0` (`sig` is scratch).
-    fn derivative<M: Model>(
+    fn derivative(
         &self,
-        model: &M,
+        model: &dyn DynModel,
         values: &[f64],
         s0: usize,
         sig: &mut [Dual64],
@@ -41,7 +41,7 @@ impl Probe<'_> {
     }
 }
 
-impl<M: Model> Balance<'_, M> {
+impl Balance<'_> {
     /// Adopt the model's structure claims ([`Model::affine_signals`],
     /// [`Model::explicit_omega`]) after testing them at a few pseudo-random states: a
     /// wrong claim would silently give wrong Jacobians, so it is an error here.
@@ -117,7 +117,7 @@ impl<M: Model> Balance<'_, M> {
     }
 }
 
-impl<M: Model> Balance<'_, M> {
+impl Balance<'_> {
     /// Which equation reads which signal: the model's claim
     /// ([`Model::signal_reads`]), tested against [`Balance::probe_reads`], or without
     /// one the probe itself; and from it the groups of signals one dual pass seeds.

@@ -4,6 +4,7 @@
 
 use super::fold_system::FoldSystem;
 use super::{Cusp, End, FoldPoint, TurnKind};
+use crate::model::DynModel;
 
 /// Corrector iterations that count as no effort ([`StepSize::easy`]): the extended
 /// system's Newton has no chord steps.
@@ -26,7 +27,6 @@ use crate::continuation::tracer::{dot, LOCATE_ITER};
 /// `T(iω)` nearly doubly singular.
 const RESONANCE_GAP: f64 = 1e-3;
 use crate::continuation::{AmplitudeBound, SweepOptions};
-use crate::model::Model;
 use crate::outputs::OutputEval;
 use crate::results::Stall;
 
@@ -44,8 +44,8 @@ struct Node {
     t: Vec<f64>,
 }
 
-pub(crate) struct FoldCurveTracer<'m, M: Model> {
-    pub sys: FoldSystem<'m, M>,
+pub(crate) struct FoldCurveTracer<'m> {
+    pub sys: FoldSystem<'m>,
     out: OutputEval,
     opts: SweepOptions,
     nodes: Vec<Node>,
@@ -56,13 +56,13 @@ pub(crate) struct FoldCurveTracer<'m, M: Model> {
     ended: Option<End>,
 }
 
-impl<'m, M: Model> FoldCurveTracer<'m, M> {
+impl<'m> FoldCurveTracer<'m> {
     /// Start at the fold `(a, Ω, P)` (located at fixed `P` by a sweep), heading
     /// towards increasing `P` if `up`. The fold is first corrected onto the extended
     /// system at that `P`.
     pub fn new(
-        mut sys: FoldSystem<'m, M>,
-        model: &M,
+        mut sys: FoldSystem<'m>,
+        model: &dyn DynModel,
         opts: &SweepOptions,
         start: (&[f64], f64, f64),
         up: bool,

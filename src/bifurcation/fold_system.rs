@@ -28,7 +28,7 @@ use crate::continuation::path::Extended;
 use crate::continuation::tracer::{dot, iterate, newton_update, unit_tangent};
 use crate::error::{Matrix, Quantity};
 use crate::linalg::DenseLu;
-use crate::model::Model;
+use crate::model::DynModel;
 use crate::results::Stall;
 use faer::prelude::ReborrowMut;
 use faer::{Mat, MatMut};
@@ -56,8 +56,8 @@ impl ParamScale {
     }
 }
 
-pub(crate) struct FoldSystem<'m, M: Model> {
-    pub bal: Balance<'m, M>,
+pub(crate) struct FoldSystem<'m> {
+    pub bal: Balance<'m>,
     /// The second parameter (by index).
     pub param: usize,
     pub scale: ParamScale,
@@ -75,7 +75,7 @@ pub(crate) struct FoldSystem<'m, M: Model> {
     /// Max-norm of the scaled residual and test function before the last step.
     last_residual: f64,
     /// Which matrix the test function borders.
-    test: TestMatrix<'m, M>,
+    test: TestMatrix<'m>,
     /// Its size: `n`, or the odd coefficients of the period-2 balance.
     nt: usize,
     /// Borders of the test function (unit vectors, renewed at accepted points).
@@ -99,12 +99,12 @@ pub(crate) struct FoldSystem<'m, M: Model> {
 }
 
 /// The matrix whose singularity the curve follows.
-pub(crate) enum TestMatrix<'m, M: Model> {
+pub(crate) enum TestMatrix<'m> {
     /// `∂R/∂a`: folds.
     Jacobian,
     /// The odd-harmonic block of the Jacobian of the balance in Ω/2 at the period-1
     /// solution (a multiplier −1): period doubling.
-    OddBlock(Box<OddBlock<'m, M>>),
+    OddBlock(Box<OddBlock<'m>>),
     /// Hill's operator `T(iω)`, the torus frequency ω one more unknown (a pair of
     /// multipliers `e^{±2πiω/Ω}` on the unit circle): Neimark–Sacker. Complex, so
     /// not through [`FoldSystem::fill_test`] but [`FoldSystem::torus_rows`].
@@ -116,8 +116,8 @@ pub(crate) enum TestMatrix<'m, M: Model> {
 }
 
 /// The period-2 balance of a period-doubling curve and its buffers.
-pub(crate) struct OddBlock<'m, M: Model> {
-    bal: Balance<'m, M>,
+pub(crate) struct OddBlock<'m> {
+    bal: Balance<'m>,
     work: BilinearWork,
     /// Where each period-1 coefficient goes among the period-2 ones.
     emb: Vec<usize>,
@@ -131,11 +131,11 @@ pub(crate) struct OddBlock<'m, M: Model> {
     d_a2: Vec<f64>,
 }
 
-impl<'m, M: Model> OddBlock<'m, M> {
+impl<'m> OddBlock<'m> {
     /// For a period-1 balance of `n1` harmonics with `ndof` DOFs: the balance of
     /// `model` with period 2 in `2 n1` harmonics of Ω/2 (so that every period-1
     /// harmonic has its place).
-    pub fn new(model: &'m M, ndof: usize, n1: usize) -> crate::error::Result<Self> {
+    pub fn new(model: &'m dyn DynModel, ndof: usize, n1: usize) -> crate::error::Result<Self> {
         let n2 = 2 * n1;
         let bal = Balance::with_period(model, n2, 2)?;
         let len = bal.len();
@@ -173,8 +173,8 @@ const ROUNDING_RESIDUAL: f64 = 1e-11;
 /// The largest update that may be rounding noise (see [`FoldSystem::correct`]).
 const ROUNDING_STEP: f64 = 1e-8;
 
-impl<'m, M: Model> FoldSystem<'m, M> {
-    pub fn new(bal: Balance<'m, M>, param: usize, scale: ParamScale, tol: f64) -> Self {
+impl<'m> FoldSystem<'m> {
+    pub fn new(bal: Balance<'m>, param: usize, scale: ParamScale, tol: f64) -> Self {
         let n = bal.len();
         let work = BilinearWork::new(&bal);
         let mut e = vec![0.0; n];
@@ -214,7 +214,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
 
     /// The system of a period-doubling curve: the odd block of `odd` bordered
     /// instead of the Jacobian.
-    pub fn period_doubling(mut self, odd: OddBlock<'m, M>) -> Self {
+    pub fn period_doubling(mut self, odd: OddBlock<'m>) -> Self {
         let nt = odd.odd.len();
         let mut e = vec![0.0; nt];
         e[nt / 2] = 1.0;
@@ -576,7 +576,7 @@ impl<'m, M: Model> FoldSystem<'m, M> {
     }
 }
 
-impl<M: Model> Extended for FoldSystem<'_, M> {
+impl Extended for FoldSystem<'_> {
     /// Newton from `y` to the fold curve on `border · y = target`; iterations used.
     fn correct(
         &mut self,

@@ -39,6 +39,7 @@ use crate::balance::Balance;
 use crate::continuation::{sweep, Control, Observer, SweepOptions};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::model::{DynModel, WithParams};
 pub use crate::results::End;
 use crate::results::{BifurcationKind, PointOutput, Stall};
 use fold_curve::{FoldCurveTracer, Step};
@@ -224,8 +225,8 @@ impl std::fmt::Display for Boundary {
 
 /// A point to start a curve at: a located fold, or a located period doubling solved
 /// for its coefficients from the nearest point of the curve.
-fn start_points<M: Model>(
-    model: &M,
+fn start_points(
+    model: &dyn DynModel,
     curve: &crate::results::Curve,
     boundary: Boundary,
     harmonics: usize,
@@ -291,8 +292,8 @@ impl Default for FoldCurveOptions {
 /// a range outside the parameter's domain, a bad frequency range) and when neither
 /// end of the range has a fold. Numerical trouble ends a curve, with the reason in
 /// [`FoldCurve::ended`]; what was traced is kept.
-pub fn fold_curves<M: Model + Clone>(
-    model: &M,
+pub fn fold_curves(
+    model: &dyn DynModel,
     param: usize,
     from: f64,
     to: f64,
@@ -303,8 +304,8 @@ pub fn fold_curves<M: Model + Clone>(
 
 /// [`fold_curves`], reporting every event to `observer`, which may stop the run
 /// (what is traced is returned, the curve being traced ends as `Stopped`).
-pub fn fold_curves_with<M: Model + Clone>(
-    model: &M,
+pub fn fold_curves_with(
+    model: &dyn DynModel,
     param: usize,
     from: f64,
     to: f64,
@@ -345,8 +346,8 @@ pub fn fold_curves_with<M: Model + Clone>(
 /// while run.step().unwrap() != FoldEvent::Finished {}
 /// assert_eq!(run.finish().cusps.len(), 1);
 /// ```
-pub struct FoldContinuation<'m, M: Model + Clone> {
-    model: &'m M,
+pub struct FoldContinuation<'m> {
+    model: &'m dyn DynModel,
     param: usize,
     range: (f64, f64),
     boundary: Boundary,
@@ -355,31 +356,31 @@ pub struct FoldContinuation<'m, M: Model + Clone> {
     res: FoldCurves,
     /// The folds found by the end sweeps that curves start from.
     starts: std::collections::VecDeque<(RangeEnd, f64, usize, crate::results::Fold)>,
-    phase: Phase<'m, M>,
+    phase: Phase<'m>,
     /// Events already produced, not yet returned (a cusp comes with its point).
     queue: std::collections::VecDeque<FoldEvent>,
 }
 
 /// Where a [`FoldContinuation`] stands.
-enum Phase<'m, M: Model> {
+enum Phase<'m> {
     /// The sweep at this end of the range comes next.
     Sweep(RangeEnd),
     /// The next curve starts (from the next start point not yet traced).
     Start,
     /// Curve `ci` is being traced.
-    Walk { ci: usize, tracer: Box<FoldCurveTracer<'m, M>> },
+    Walk { ci: usize, tracer: Box<FoldCurveTracer<'m>> },
     /// Neither end sweep found a start: the next step says so.
     NoFolds,
     /// Everything is traced.
     Finished,
 }
 
-impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
+impl<'m> FoldContinuation<'m> {
     /// Check the input and set up the analysis; nothing is computed yet. Errors for
     /// bad input (an unknown parameter index, an empty or non-finite range, a range
     /// outside the parameter's domain, a bad frequency range).
     pub fn new(
-        model: &'m M,
+        model: &'m dyn DynModel,
         param: usize,
         from: f64,
         to: f64,
@@ -424,7 +425,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
             )?;
         }
         for v in [from, to] {
-            let mut m = model.clone();
+            let mut m = WithParams::new(model);
             m.set_param_value(param, v);
             m.validate()?;
         }
@@ -500,7 +501,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
         self.res
     }
 
-    fn count(&mut self, tracer: &FoldCurveTracer<'m, M>) {
+    fn count(&mut self, tracer: &FoldCurveTracer<'m>) {
         self.res.iterations += tracer.sys.iterations;
         self.res.steps.0 += tracer.steps;
         self.res.steps.1 += tracer.rejected;
@@ -510,7 +511,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
     fn sweep_end(&mut self, end: RangeEnd) -> Result<FoldEvent> {
         let (from, to) = self.range;
         let v = if end == RangeEnd::From { from } else { to };
-        let mut m = self.model.clone();
+        let mut m = WithParams::new(self.model);
         m.set_param_value(self.param, v);
         let (w0, w1) = self.res.omega;
         let curve = sweep(&m, w0, w1, &self.sweep_opts)?;
@@ -539,7 +540,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
         let Some((end, v, start_fold, fold)) = self.next_start() else {
             return Ok(FoldEvent::Finished);
         };
-        let mut m = model.clone();
+        let mut m = WithParams::new(model);
         m.set_param_value(param, v);
         let bal = Balance::new(model, harmonics)?;
         let sys = FoldSystem::new(bal, param, self.scale, self.sweep_opts.tol);
@@ -601,7 +602,7 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
 
     /// One step along curve `ci`: its point (after the cusp it passed, if any), or
     /// its end.
-    fn walk(&mut self, ci: usize, mut tracer: Box<FoldCurveTracer<'m, M>>) -> FoldEvent {
+    fn walk(&mut self, ci: usize, mut tracer: Box<FoldCurveTracer<'m>>) -> FoldEvent {
         match tracer.step() {
             Step::Point(cusp) => {
                 let k = tracer.points.len() - 1;
@@ -649,8 +650,8 @@ impl<'m, M: Model + Clone> FoldContinuation<'m, M> {
 
 /// The torus frequency at a located torus point: the imaginary part of the central
 /// exponent nearest the imaginary axis away from 0 and ±Ω/2, by a full Hill analysis.
-fn torus_frequency<M: Model>(
-    model: &M,
+fn torus_frequency(
+    model: &dyn DynModel,
     harmonics: usize,
     at: &crate::results::Fold,
 ) -> std::result::Result<f64, Stall> {
@@ -668,7 +669,7 @@ fn torus_frequency<M: Model>(
 }
 
 /// The residual max-norm at zero response (the forcing) at Ω: the reference force.
-fn reference_force<M: Model>(model: &M, harmonics: usize, omega: f64) -> Result<f64> {
+fn reference_force(model: &dyn DynModel, harmonics: usize, omega: f64) -> Result<f64> {
     let mut bal = Balance::new(model, harmonics)?;
     let a = vec![0.0; bal.len()];
     let mut r = vec![0.0; bal.len()];

@@ -18,7 +18,7 @@ use crate::continuation::{self, SweepOptions};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{DirectionFailure, Error, Result};
 use crate::linalg::DenseLu;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use crate::results::{BifurcationKind, Curve, End};
 use faer::prelude::ReborrowMut;
 
@@ -61,8 +61,8 @@ pub struct PeriodDoubled {
 /// // the branch leaves the period-1 curve where it doubles its period
 /// assert!((both.period_two.points[0].omega - both.switched_at[0]).abs() < 1e-4);
 /// ```
-pub fn period_two<M: Model + Clone>(
-    model: &M,
+pub fn period_two(
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     opts: &SweepOptions,
@@ -116,8 +116,8 @@ const REJOIN_GAP: f64 = 1e-2;
 
 /// The period-2 branch that leaves `curve1` at its period doubling `omega_pd` (between
 /// points `after` and `after + 1`), traced in `[from, to]`, with forcing frequencies.
-fn branch_at<M: Model>(
-    model: &M,
+fn branch_at(
+    model: &dyn DynModel,
     curve1: &Curve,
     omega_pd: f64,
     after: usize,
@@ -199,8 +199,8 @@ pub struct SymmetryBroken {
 ///
 /// Errors for bad input, when the curve has no located branch point in the range
 /// ([`Error::NoBranchPoint`]), and when the solution there is not symmetric.
-pub fn break_symmetry<M: Model + Clone>(
-    model: &M,
+pub fn break_symmetry(
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     opts: &SweepOptions,
@@ -255,8 +255,8 @@ pub(super) fn odd_harmonics(ndof: usize, n: usize) -> Vec<bool> {
 /// coefficients `odd` marks: inverse iteration from a vector in them, which the
 /// Jacobian keeps apart from the others (the odd harmonics of Ω/2 at a period-1
 /// solution; the even harmonics of Ω at a symmetric one).
-fn critical_direction<M: Model>(
-    model: &M,
+fn critical_direction(
+    model: &dyn DynModel,
     n2: usize,
     period: usize,
     a: &[f64],

@@ -20,7 +20,6 @@
 use crate::balance::{Balance, BilinearWork};
 use crate::error::{Matrix, Quantity};
 use crate::linalg::{complex_lu_factor, complex_lu_solve, complex_lu_solve_adjoint};
-use crate::model::Model;
 use crate::results::Stall;
 use crate::stability::Hill;
 use num_complex::Complex64;
@@ -52,7 +51,7 @@ pub(crate) struct PsiGradient {
 }
 
 impl TorusTest {
-    pub fn new<M: Model>(bal: &Balance<'_, M>) -> crate::error::Result<Self> {
+    pub fn new(bal: &Balance<'_>) -> crate::error::Result<Self> {
         let n = bal.len();
         let e = {
             let mut e = vec![Complex64::new(0.0, 0.0); n];
@@ -76,9 +75,9 @@ impl TorusTest {
 
     /// `cs · T(iω)` at the solution `a` (parameters as set in `bal`) into the top-left
     /// block of `self.k`.
-    fn fill<M: Model>(
+    fn fill(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         a: &[f64],
         omega: f64,
         torus: f64,
@@ -99,9 +98,9 @@ impl TorusTest {
 
     /// `g` at `(a, Ω, ω)`, `T` scaled by `cs`; the null vectors `v`, `w` kept for
     /// [`TorusTest::gradient`].
-    pub fn evaluate<M: Model>(
+    pub fn evaluate(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         a: &[f64],
         omega: f64,
         torus: f64,
@@ -136,9 +135,9 @@ impl TorusTest {
 
     /// The gradient of `ψ = wᴴ T(iω) v` (unscaled `T`) with `v`, `w` of the last
     /// [`TorusTest::evaluate`]: `∂ψ/∂a` into `self.d_a`.
-    pub fn gradient<M: Model>(
+    pub fn gradient(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         a: &[f64],
         omega: f64,
         torus: f64,
@@ -163,9 +162,9 @@ impl TorusTest {
 
     /// Borders for a start point: the null vectors of `cs · T(iω)` by two steps of
     /// inverse iteration.
-    pub fn init_borders<M: Model>(
+    pub fn init_borders(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         a: &[f64],
         omega: f64,
         torus: f64,
@@ -216,13 +215,14 @@ impl TorusTest {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Model;
     use crate::models::QuarterCar;
 
     /// `wᴴ T(λ) v` from Hill's assembled operator (binomial matrix polynomial and
     /// fractional factors: a different code path from the hyper-dual passes).
     fn psi(
         hill: &mut Hill,
-        bal: &mut Balance<'_, QuarterCar>,
+        bal: &mut Balance<'_>,
         a: &[f64],
         omega: f64,
         lambda: Complex64,

@@ -7,7 +7,6 @@ use super::events::Event;
 use super::jumps::Landing;
 use super::stepper::{Continuation, StabilityChange};
 use super::tracer::{dot, unit};
-use crate::model::Model;
 use crate::results::{Fold, Jump};
 use crate::stability::{Hill, StabilityOptions};
 
@@ -125,7 +124,7 @@ impl CrossingSearch {
     }
 }
 
-impl<M: Model> Continuation<'_, M> {
+impl Continuation<'_> {
     /// Locate the fold inside the step from `nodes[last]` (direction `dirv`, length
     /// `h`) by regula falsi (Illinois) on the λ-component of the tangent, and report it.
     pub(super) fn locate_fold(&mut self, last: usize, dirv: &[f64], h: f64, f_end: f64) {

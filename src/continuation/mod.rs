@@ -53,7 +53,7 @@ mod stepper;
 pub(crate) mod tracer;
 
 use crate::error::{Error, Result};
-use crate::model::{Model, Order};
+use crate::model::{DynModel, Model, Order};
 use crate::results::Curve;
 use crate::stability::StabilityOptions;
 use convergence::with_convergence;
@@ -260,8 +260,8 @@ impl Default for SweepOptions {
 /// range or crosses back through the solutions it left (its component along `v` in
 /// the coefficients of `mask`, which those solutions lack, changes sign).
 #[allow(clippy::too_many_arguments)]
-pub fn sweep_branch<M: Model>(
-    model: &M,
+pub fn sweep_branch(
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     opts: &SweepOptions,
@@ -284,7 +284,7 @@ pub fn sweep_branch<M: Model>(
 /// Errors only for bad input (`from >= to`, non-finite or non-positive frequencies,
 /// N = 0, invalid model parameters). Numerical trouble ends a segment and is reported
 /// in [`Curve::segments`]; the curve is returned with everything computed.
-pub fn sweep<M: Model>(model: &M, from: f64, to: f64, opts: &SweepOptions) -> Result<Curve> {
+pub fn sweep(model: &dyn DynModel, from: f64, to: f64, opts: &SweepOptions) -> Result<Curve> {
     sweep_with(model, from, to, opts, &mut ())
 }
 
@@ -312,8 +312,8 @@ pub fn sweep<M: Model>(model: &M, from: f64, to: f64, opts: &SweepOptions) -> Re
 /// assert_eq!((curve.folds.len(), curve.points.len()), (1, traced));
 /// # Ok::<(), ihbm::Error>(())
 /// ```
-pub fn sweep_with<M: Model>(
-    model: &M,
+pub fn sweep_with(
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     opts: &SweepOptions,
@@ -328,8 +328,8 @@ pub fn sweep_with<M: Model>(
 /// residual ([`Balance::d_param`](crate::balance::Balance::d_param)). A range with an
 /// end outside the parameter's [`Domain`](crate::model::Domain) is refused before
 /// anything is computed.
-pub fn sweep_param<M: Model>(
-    model: &M,
+pub fn sweep_param(
+    model: &dyn DynModel,
     param: &str,
     from: f64,
     to: f64,
@@ -340,8 +340,8 @@ pub fn sweep_param<M: Model>(
 }
 
 /// [`sweep_param`] watched by `observer` (as in [`sweep_with`]).
-pub fn sweep_param_with<M: Model>(
-    model: &M,
+pub fn sweep_param_with(
+    model: &dyn DynModel,
     param: &str,
     from: f64,
     to: f64,
@@ -355,13 +355,13 @@ pub fn sweep_param_with<M: Model>(
 }
 
 /// Run to the end or to the observer's stop: the curve, and whether it was stopped.
-fn run<M: Model>(mut c: Continuation<'_, M>, observer: &mut dyn Observer) -> Result<(Curve, bool)> {
+fn run(mut c: Continuation<'_>, observer: &mut dyn Observer) -> Result<(Curve, bool)> {
     let stopped = c.drive(observer);
     Ok((c.finish(), stopped))
 }
 
 /// The checks of a frequency sweep.
-fn check_sweep<M: Model>(model: &M, from: f64, to: f64, opts: &SweepOptions) -> Result<()> {
+fn check_sweep(model: &dyn DynModel, from: f64, to: f64, opts: &SweepOptions) -> Result<()> {
     check_range("frequency", from, to)?;
     if from <= 0.0 {
         return Err(invalid("start frequency", from, "a positive frequency in rad/s"));
@@ -371,8 +371,8 @@ fn check_sweep<M: Model>(model: &M, from: f64, to: f64, opts: &SweepOptions) -> 
 }
 
 /// The checks of a parameter sweep; the parameter's index.
-fn check_sweep_param<M: Model>(
-    model: &M,
+fn check_sweep_param(
+    model: &dyn DynModel,
     param: &str,
     from: f64,
     to: f64,
@@ -405,8 +405,8 @@ fn check_sweep_param<M: Model>(
 /// Frequency sweeps of a family of models that differ in `param`, run in parallel
 /// (rayon, one curve per task; feature `parallel`). One result per value, in order.
 #[cfg(feature = "parallel")]
-pub fn sweep_family<M: Model + Clone>(
-    model: &M,
+pub fn sweep_family(
+    model: &dyn DynModel,
     param: &str,
     values: &[f64],
     from: f64,
@@ -417,7 +417,7 @@ pub fn sweep_family<M: Model + Clone>(
     values
         .par_iter()
         .map(|&v| {
-            let mut m = model.clone();
+            let mut m = crate::model::WithParams::new(model);
             m.set_param(param, v)?;
             sweep(&m, from, to, opts)
         })

@@ -13,7 +13,6 @@
 
 use super::tracer::{dot, Tracer};
 use super::StepSize;
-use crate::model::Model;
 use crate::results::Stall;
 
 /// A system a path follows: Newton's method with one extra row, and the tangent.
@@ -154,7 +153,7 @@ pub(crate) fn advance<S: Extended + ?Sized, L>(
 }
 
 /// The sweep's corrector: chord steps after the first Newton step.
-impl<M: Model> Extended for Tracer<'_, M> {
+impl Extended for Tracer<'_> {
     fn correct(
         &mut self,
         y: &mut [f64],

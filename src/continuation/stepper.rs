@@ -14,7 +14,7 @@ use super::tracer::{dot, unit, Axis, Tracer};
 use super::{AmplitudeBound, Predictor, SweepOptions};
 use crate::balance::Balance;
 use crate::error::Result;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use crate::outputs::OutputEval;
 use crate::results::{
     Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, End, Parameter, PointOutput,
@@ -104,9 +104,9 @@ pub(super) struct Branch {
 /// assert_eq!(curve.segments.last().unwrap().ended, ihbm::results::End::Stopped);
 /// # Ok::<(), ihbm::Error>(())
 /// ```
-pub struct Continuation<'m, M: Model> {
-    model: &'m M,
-    pub(super) tr: Tracer<'m, M>,
+pub struct Continuation<'m> {
+    model: &'m dyn DynModel,
+    pub(super) tr: Tracer<'m>,
     opts: SweepOptions,
     lo: f64,
     hi: f64,
@@ -132,18 +132,18 @@ pub struct Continuation<'m, M: Model> {
 /// begins (a factor, above and then below).
 const ALONG_OMEGA: f64 = 4.0;
 
-impl<'m, M: Model> Continuation<'m, M> {
+impl<'m> Continuation<'m> {
     /// A frequency sweep of `model` for Ω from `from` to `to` (rad/s), checked as
     /// [`sweep`](super::sweep) checks it. `opts.convergence` is not used here (a
     /// convergence study is a run per harmonic count: [`sweep`](super::sweep)).
-    pub fn omega(model: &'m M, from: f64, to: f64, opts: &SweepOptions) -> Result<Self> {
+    pub fn omega(model: &'m dyn DynModel, from: f64, to: f64, opts: &SweepOptions) -> Result<Self> {
         super::check_sweep(model, from, to, opts)?;
         Self::new(model, Axis::Omega, from, to, opts)
     }
 
     /// A sweep of parameter `param` from `from` to `to` at fixed frequency `omega`.
     pub fn param(
-        model: &'m M,
+        model: &'m dyn DynModel,
         param: &str,
         from: f64,
         to: f64,
@@ -155,7 +155,7 @@ impl<'m, M: Model> Continuation<'m, M> {
     }
 
     pub(super) fn new(
-        model: &'m M,
+        model: &'m dyn DynModel,
         axis: Axis,
         lo: f64,
         hi: f64,
@@ -166,7 +166,7 @@ impl<'m, M: Model> Continuation<'m, M> {
 
     /// [`Continuation::new`] with parameter `fixed.0` held at `fixed.1` throughout.
     fn build(
-        model: &'m M,
+        model: &'m dyn DynModel,
         axis: Axis,
         lo: f64,
         hi: f64,

@@ -19,7 +19,6 @@
 use crate::balance::Balance;
 use crate::error::{Matrix, Quantity};
 use crate::linalg::{BorderedLu, DenseLu};
-use crate::model::Model;
 use crate::results::Stall;
 
 /// What is continued.
@@ -31,8 +30,8 @@ pub(crate) enum Axis {
     Param { index: usize, omega: f64 },
 }
 
-pub(crate) struct Tracer<'m, M: Model> {
-    pub bal: Balance<'m, M>,
+pub(crate) struct Tracer<'m> {
+    pub bal: Balance<'m>,
     pub axis: Axis,
     /// Number of Fourier coefficients.
     pub n: usize,
@@ -59,8 +58,8 @@ pub(crate) struct Tracer<'m, M: Model> {
     a: Vec<f64>,
 }
 
-impl<'m, M: Model> Tracer<'m, M> {
-    pub fn new(bal: Balance<'m, M>, axis: Axis, tol: f64, max_iter: usize) -> Self {
+impl<'m> Tracer<'m> {
+    pub fn new(bal: Balance<'m>, axis: Axis, tol: f64, max_iter: usize) -> Self {
         let n = bal.len();
         let band = bal.jacobian_band();
         Tracer {

@@ -11,7 +11,7 @@ use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent
 use crate::continuation::{self, Observer, SweepOptions};
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use crate::report::Overlay;
 use crate::results::{Curve, SimOutput, SimRecord, SolveRecord, Stability, Unknown};
 use crate::stability::{Hill, StabilityOptions};
@@ -149,9 +149,9 @@ pub fn fold_options(
 
 /// Solve at one frequency from the linearized guess. A Newton failure is not an error
 /// here: the record carries `converged: false` and the last iterate.
-pub fn solve<M: Model>(
+pub fn solve(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     omega: f64,
     s: &SolveSettings,
 ) -> Result<SolveRecord> {
@@ -191,8 +191,8 @@ pub fn solve<M: Model>(
 }
 
 /// Stability of a solution by Hill's method, or why there is no verdict.
-fn stability<M: Model>(
-    model: &M,
+fn stability(
+    model: &dyn DynModel,
     omega: f64,
     harmonics: usize,
     coeffs: &[f64],
@@ -213,9 +213,9 @@ fn stability<M: Model>(
 
 /// Trace the amplitude–frequency curve from `from` to `to` (rad/s), watched by
 /// `observer` (the range itself is checked by the continuation).
-pub fn sweep<M: Model>(
+pub fn sweep(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     s: &SweepSettings,
@@ -230,9 +230,9 @@ pub fn sweep<M: Model>(
 /// The period-2 branch for Ω from `from` to `to`, switched onto at the first period
 /// doubling of the period-1 curve ([`bifurcation::period_two`]); `s.harmonics` counts
 /// harmonics of Ω/2.
-pub fn sweep_period_two<M: Model + Clone>(
+pub fn sweep_period_two(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     s: &SweepSettings,
@@ -246,9 +246,9 @@ pub fn sweep_period_two<M: Model + Clone>(
 
 /// The branch that breaks the symmetry of the curve from `from` to `to`, switched
 /// onto at its first branch point ([`bifurcation::break_symmetry`]).
-pub fn sweep_break_symmetry<M: Model + Clone>(
+pub fn sweep_break_symmetry(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     from: f64,
     to: f64,
     s: &SweepSettings,
@@ -275,9 +275,9 @@ pub struct ParamRange<'a> {
 
 /// Trace the response at fixed frequency as a parameter goes over its range; the
 /// curve's `parameter` names it.
-pub fn sweep_param<M: Model>(
+pub fn sweep_param(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     r: &ParamRange,
     s: &SweepSettings,
     observer: &mut dyn Observer,
@@ -307,9 +307,9 @@ pub struct FoldRange<'a> {
 
 /// The fold curves of `model` in the (Ω, parameter) plane and their cusps, watched
 /// by `observer`.
-pub fn fold_curves<M: Model + Clone>(
+pub fn fold_curves(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     r: &FoldRange,
     s: &SweepSettings,
     observer: &mut dyn continuation::Observer<FoldEvent, FoldCurves>,
@@ -338,9 +338,9 @@ pub struct BackboneSettings {
 
 /// The backbone of mode `s.mode` of `model` ([`crate::backbone`]), reporting every
 /// event to `observer`, which may stop it.
-pub fn backbone<M: Model>(
+pub fn backbone(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     s: &BackboneSettings,
     observer: &mut dyn continuation::Observer<BackboneEvent, Backbone>,
 ) -> Result<Backbone> {
@@ -375,9 +375,9 @@ pub struct SweepBackbone {
 /// The backbones that belong on a sweep's figure: for every mode whose linear
 /// natural frequency lies in `[from, to]` and every output, the backbone continued in
 /// that output up to `tops[output]` (the sweep's largest `max |x|` of it).
-pub fn sweep_backbones<M: Model>(
+pub fn sweep_backbones(
     name: &str,
-    model: &M,
+    model: &dyn DynModel,
     (from, to): (f64, f64),
     tops: &[f64],
     harmonics: usize,
@@ -460,7 +460,12 @@ pub fn backbone_overlays(
 }
 
 /// Integrate from rest and report the steady statistics of every output.
-pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) -> Result<SimRecord> {
+pub fn simulate(
+    name: &str,
+    model: &dyn DynModel,
+    omega: f64,
+    s: &SimSettings,
+) -> Result<SimRecord> {
     check_omega("omega", omega)?;
     let sim = timedomain::simulate(model, omega, &s.options())?;
     Ok(SimRecord {
@@ -486,7 +491,7 @@ pub fn simulate<M: Model>(name: &str, model: &M, omega: f64, s: &SimSettings) ->
 /// Harmonic balance (N = `harmonics`, from the linearised guess) against time
 /// integration from rest at `omega`: the comparison of
 /// [`timedomain::compare_at`], failures of either method recorded in the row.
-pub fn compare<M: Model>(model: &M, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
+pub fn compare(model: &dyn DynModel, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
     let hb = SolveOptions { harmonics, ..SolveOptions::default() };
     timedomain::compare_at(model, omega, &s.options(), &hb)
 }

@@ -83,7 +83,7 @@ impl NamedModel {
     pub fn check_size(&self, harmonics: usize, stability: bool) -> Result<()> {
         crate::balance::check_size(self.model.dofs().len(), harmonics)?;
         if stability {
-            crate::stability::check_size(&self.model, harmonics)?;
+            crate::stability::check_size(self.model.as_dyn(), harmonics)?;
         }
         Ok(())
     }
@@ -100,7 +100,7 @@ impl NamedModel {
 
     /// Solve at one frequency.
     pub fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
-        engine::solve(&self.name, &self.model, omega, s)
+        engine::solve(&self.name, self.model.as_dyn(), omega, s)
     }
 
     /// Trace a frequency sweep.
@@ -111,14 +111,14 @@ impl NamedModel {
         s: &SweepSettings,
         obs: &mut dyn Observer,
     ) -> Result<Curve> {
-        let mut c = engine::sweep(&self.name, &self.model, from, to, s, obs)?;
+        let mut c = engine::sweep(&self.name, self.model.as_dyn(), from, to, s, obs)?;
         c.model = self.name.clone();
         Ok(c)
     }
 
     /// The period-2 branch, switched onto at a period doubling of the period-1 curve.
     pub fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled> {
-        engine::sweep_period_two(&self.name, &self.model, from, to, s)
+        engine::sweep_period_two(&self.name, self.model.as_dyn(), from, to, s)
     }
 
     /// The branch that breaks the curve's symmetry, switched onto at a branch point.
@@ -128,7 +128,7 @@ impl NamedModel {
         to: f64,
         s: &SweepSettings,
     ) -> Result<SymmetryBroken> {
-        engine::sweep_break_symmetry(&self.name, &self.model, from, to, s)
+        engine::sweep_break_symmetry(&self.name, self.model.as_dyn(), from, to, s)
     }
 
     /// Trace the response at a fixed frequency as one parameter moves.
@@ -138,7 +138,7 @@ impl NamedModel {
         s: &SweepSettings,
         obs: &mut dyn Observer,
     ) -> Result<Curve> {
-        engine::sweep_param(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
+        engine::sweep_param(&self.name, self.model.as_dyn(), r, s, obs).map_err(|e| self.named(e))
     }
 
     /// The fold curves in the plane of Ω and one parameter, and their cusps.
@@ -148,7 +148,7 @@ impl NamedModel {
         s: &SweepSettings,
         obs: &mut dyn Observer<FoldEvent, FoldCurves>,
     ) -> Result<FoldCurves> {
-        engine::fold_curves(&self.name, &self.model, r, s, obs).map_err(|e| self.named(e))
+        engine::fold_curves(&self.name, self.model.as_dyn(), r, s, obs).map_err(|e| self.named(e))
     }
 
     /// The backbone (nonlinear mode) of one mode.
@@ -157,7 +157,7 @@ impl NamedModel {
         s: &BackboneSettings,
         obs: &mut dyn Observer<BackboneEvent, Backbone>,
     ) -> Result<Backbone> {
-        engine::backbone(&self.name, &self.model, s, obs).map_err(|e| self.named(e))
+        engine::backbone(&self.name, self.model.as_dyn(), s, obs).map_err(|e| self.named(e))
     }
 
     /// The backbones of the modes in `[range.0, range.1]`, each output's continued to
@@ -168,13 +168,14 @@ impl NamedModel {
         tops: &[f64],
         harmonics: usize,
     ) -> Vec<SweepBackbone> {
-        engine::sweep_backbones(&self.name, &self.model, range, tops, harmonics)
+        engine::sweep_backbones(&self.name, self.model.as_dyn(), range, tops, harmonics)
     }
 
     /// The limit cycle near a frequency guess.
     pub fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle> {
         let opts = crate::backbone::CycleOptions { omega, harmonics, ..Default::default() };
-        let mut c = crate::backbone::cycle(&self.model, &opts).map_err(|e| self.named(e))?;
+        let mut c =
+            crate::backbone::cycle(self.model.as_dyn(), &opts).map_err(|e| self.named(e))?;
         c.model = self.name.clone();
         Ok(c)
     }
@@ -185,20 +186,20 @@ impl NamedModel {
         opts: &FamilyOptions,
         obs: &mut dyn Observer<FamilyEvent, CycleFamily>,
     ) -> Result<CycleFamily> {
-        let mut f =
-            crate::backbone::cycles_with(&self.model, opts, obs).map_err(|e| self.named(e))?;
+        let mut f = crate::backbone::cycles_with(self.model.as_dyn(), opts, obs)
+            .map_err(|e| self.named(e))?;
         f.model = self.name.clone();
         Ok(f)
     }
 
     /// Integrate in time.
     pub fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
-        engine::simulate(&self.name, &self.model, omega, s)
+        engine::simulate(&self.name, self.model.as_dyn(), omega, s)
     }
 
     /// Harmonic balance against time integration at one frequency.
     pub fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
-        engine::compare(&self.model, omega, s, harmonics)
+        engine::compare(self.model.as_dyn(), omega, s, harmonics)
     }
 }
 

@@ -1,15 +1,16 @@
-//! A model behind a pointer: one object-safe trait, [`DynModel`], and the owning
-//! handle [`BoxedModel`] that implements [`Model`] again.
+//! A model behind a pointer: one object-safe trait, [`DynModel`], that every
+//! [`Model`] implements, and the owning handle [`BoxedModel`].
 //!
-//! [`Model`] is not object-safe (its residual is generic over the scalar type), so a
-//! solver called with ten model types is compiled ten times. The application (the
-//! command line, studies, Python) holds models it only knows at run time — the
-//! built-in ones, a model file — and runs every analysis on them: behind a
-//! [`BoxedModel`] the whole solver stack is compiled once, and each model contributes
-//! only its residual in the three scalar types the solvers use ([`Scalar`]). The
-//! price is one indirect call per residual evaluation (per time sample), measured in
-//! the `boxed` bench; code that names its model type (a user's own program) stays
-//! monomorphised.
+//! [`Model`] is not object-safe (its residual is generic over the scalar type). The
+//! solvers take `&dyn DynModel`, so the whole solver stack is compiled once, in this
+//! crate, whatever the models: a program (or a test binary) with ten model types
+//! compiles only their residuals, in the three scalar types the solvers use
+//! ([`Scalar`]). A `&Duffing` passed where a solver wants `&dyn DynModel` converts by
+//! itself. The price is one indirect call per residual evaluation (per time sample);
+//! the `boxed` bench measures it against a call the compiler could inline.
+//!
+//! [`BoxedModel`] owns a model the application only knows at run time (a built-in
+//! model chosen by name, a model file) and can be cloned.
 //!
 //! ```
 //! use ihbm::model::{BoxedModel, Model};
@@ -32,39 +33,39 @@ use crate::error::Error;
 use num_dual::{Dual64, HyperDual64};
 
 /// The object-safe face of a [`Model`]: every method of the trait, with the residual
-/// spelled out for each [`Scalar`]. Implemented for every `Model + Clone`; held as a
-/// [`BoxedModel`].
+/// spelled out for each [`Scalar`]. Implemented for every [`Model`]; what the solvers
+/// take (`&dyn DynModel`), and `dyn DynModel` is a [`Model`] again.
 pub trait DynModel: Send + Sync {
     /// [`Model::name`].
-    fn name(&self) -> &str;
+    fn dyn_name(&self) -> &str;
     /// [`Model::description`].
-    fn description(&self) -> &str;
+    fn dyn_description(&self) -> &str;
     /// [`Model::dofs`].
-    fn dofs(&self) -> &[Text];
+    fn dyn_dofs(&self) -> &[Text];
     /// [`Model::params_info`].
-    fn params_info(&self) -> &[ParamInfo];
+    fn dyn_params_info(&self) -> &[ParamInfo];
     /// [`Model::param_value`].
-    fn param_value(&self, index: usize) -> f64;
+    fn dyn_param_value(&self, index: usize) -> f64;
     /// [`Model::set_param_value`].
-    fn set_param_value(&mut self, index: usize, value: f64);
+    fn dyn_set_param_value(&mut self, index: usize, value: f64);
     /// [`Model::signals`].
-    fn signals(&self) -> &[Signal];
+    fn dyn_signals(&self) -> &[Signal];
     /// [`Model::outputs`].
-    fn outputs(&self) -> &[Output];
+    fn dyn_outputs(&self) -> &[Output];
     /// [`Model::degree`].
-    fn degree(&self) -> usize;
+    fn dyn_degree(&self) -> usize;
     /// [`Model::max_forcing_harmonic`].
-    fn max_forcing_harmonic(&self) -> usize;
+    fn dyn_max_forcing_harmonic(&self) -> usize;
     /// [`Model::parametric_harmonic`].
-    fn parametric_harmonic(&self) -> usize;
+    fn dyn_parametric_harmonic(&self) -> usize;
     /// [`Model::equations`].
-    fn equations(&self) -> &[Text];
+    fn dyn_equations(&self) -> &[Text];
     /// [`Model::affine_signals`].
-    fn affine_signals(&self) -> &[bool];
+    fn dyn_affine_signals(&self) -> &[bool];
     /// [`Model::signal_reads`].
-    fn signal_reads(&self) -> &[bool];
+    fn dyn_signal_reads(&self) -> &[bool];
     /// [`Model::explicit_omega`].
-    fn explicit_omega(&self) -> bool;
+    fn dyn_explicit_omega(&self) -> bool;
     /// [`Model::residual`] in `f64`.
     fn residual_f64(&self, p: &[f64], omega: f64, phase: f64, s: &[f64], out: &mut [f64]);
     /// [`Model::residual`] in first-order dual numbers.
@@ -86,59 +87,57 @@ pub trait DynModel: Send + Sync {
         out: &mut [HyperDual64],
     );
     /// [`Model::check_coefficients`].
-    fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error>;
+    fn dyn_check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error>;
     /// [`Model::set_param`].
-    fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error>;
+    fn dyn_set_param(&mut self, name: &str, value: f64) -> Result<(), Error>;
     /// [`Model::validate`].
-    fn validate(&self) -> Result<(), Error>;
-    /// A copy behind a new box.
-    fn clone_box(&self) -> Box<dyn DynModel>;
+    fn dyn_validate(&self) -> Result<(), Error>;
 }
 
-impl<M: Model + Clone + 'static> DynModel for M {
-    fn name(&self) -> &str {
+impl<M: Model> DynModel for M {
+    fn dyn_name(&self) -> &str {
         Model::name(self)
     }
-    fn description(&self) -> &str {
+    fn dyn_description(&self) -> &str {
         Model::description(self)
     }
-    fn dofs(&self) -> &[Text] {
+    fn dyn_dofs(&self) -> &[Text] {
         Model::dofs(self)
     }
-    fn params_info(&self) -> &[ParamInfo] {
+    fn dyn_params_info(&self) -> &[ParamInfo] {
         Model::params_info(self)
     }
-    fn param_value(&self, index: usize) -> f64 {
+    fn dyn_param_value(&self, index: usize) -> f64 {
         Model::param_value(self, index)
     }
-    fn set_param_value(&mut self, index: usize, value: f64) {
+    fn dyn_set_param_value(&mut self, index: usize, value: f64) {
         Model::set_param_value(self, index, value)
     }
-    fn signals(&self) -> &[Signal] {
+    fn dyn_signals(&self) -> &[Signal] {
         Model::signals(self)
     }
-    fn outputs(&self) -> &[Output] {
+    fn dyn_outputs(&self) -> &[Output] {
         Model::outputs(self)
     }
-    fn degree(&self) -> usize {
+    fn dyn_degree(&self) -> usize {
         Model::degree(self)
     }
-    fn max_forcing_harmonic(&self) -> usize {
+    fn dyn_max_forcing_harmonic(&self) -> usize {
         Model::max_forcing_harmonic(self)
     }
-    fn parametric_harmonic(&self) -> usize {
+    fn dyn_parametric_harmonic(&self) -> usize {
         Model::parametric_harmonic(self)
     }
-    fn equations(&self) -> &[Text] {
+    fn dyn_equations(&self) -> &[Text] {
         Model::equations(self)
     }
-    fn affine_signals(&self) -> &[bool] {
+    fn dyn_affine_signals(&self) -> &[bool] {
         Model::affine_signals(self)
     }
-    fn signal_reads(&self) -> &[bool] {
+    fn dyn_signal_reads(&self) -> &[bool] {
         Model::signal_reads(self)
     }
-    fn explicit_omega(&self) -> bool {
+    fn dyn_explicit_omega(&self) -> bool {
         Model::explicit_omega(self)
     }
     fn residual_f64(&self, p: &[f64], omega: f64, phase: f64, s: &[f64], out: &mut [f64]) {
@@ -164,28 +163,55 @@ impl<M: Model + Clone + 'static> DynModel for M {
     ) {
         Model::residual(self, p, omega, phase, s, out)
     }
-    fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
+    fn dyn_check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
         Model::check_coefficients(self, params, omega)
     }
-    fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
+    fn dyn_set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
         Model::set_param(self, name, value)
     }
-    fn validate(&self) -> Result<(), Error> {
+    fn dyn_validate(&self) -> Result<(), Error> {
         Model::validate(self)
-    }
-    fn clone_box(&self) -> Box<dyn DynModel> {
-        Box::new(self.clone())
     }
 }
 
-/// Any model, its type erased: a [`Model`] (and `Clone`) whatever it holds, so every
-/// solver takes it. See the [module documentation](self) for when to use one.
-pub struct BoxedModel(Box<dyn DynModel>);
+/// A [`DynModel`] that can be copied: what a [`BoxedModel`] holds.
+trait CloneModel: DynModel {
+    fn clone_box(&self) -> Box<dyn CloneModel>;
+    fn as_dyn(&self) -> &dyn DynModel;
+    fn as_dyn_mut(&mut self) -> &mut dyn DynModel;
+}
+
+impl<M: Model + Clone + 'static> CloneModel for M {
+    fn clone_box(&self) -> Box<dyn CloneModel> {
+        Box::new(self.clone())
+    }
+    fn as_dyn(&self) -> &dyn DynModel {
+        self
+    }
+    fn as_dyn_mut(&mut self) -> &mut dyn DynModel {
+        self
+    }
+}
+
+/// Any model, owned, its type erased: a [`Model`] (and `Clone`) whatever it holds.
+/// See the [module documentation](self) for when to use one.
+pub struct BoxedModel(Box<dyn CloneModel>);
 
 impl BoxedModel {
     /// Erase the type of `model`.
     pub fn new<M: Model + Clone + 'static>(model: M) -> Self {
         BoxedModel(Box::new(model))
+    }
+
+    /// The model itself, for a solver: `solve(boxed.as_dyn(), …)` calls the model
+    /// through one pointer, where `solve(&boxed, …)` goes through this handle too.
+    pub fn as_dyn(&self) -> &dyn DynModel {
+        self.0.as_dyn()
+    }
+
+    /// The model itself, mutably.
+    pub fn as_dyn_mut(&mut self) -> &mut dyn DynModel {
+        self.0.as_dyn_mut()
     }
 }
 
@@ -197,55 +223,55 @@ impl Clone for BoxedModel {
 
 impl std::fmt::Debug for BoxedModel {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_tuple("BoxedModel").field(&self.0.name()).finish()
+        f.debug_tuple("BoxedModel").field(&self.0.dyn_name()).finish()
     }
 }
 
-impl Model for BoxedModel {
+impl Model for dyn DynModel + '_ {
     fn name(&self) -> &str {
-        self.0.name()
+        DynModel::dyn_name(self)
     }
     fn description(&self) -> &str {
-        self.0.description()
+        DynModel::dyn_description(self)
     }
     fn dofs(&self) -> &[Text] {
-        self.0.dofs()
+        DynModel::dyn_dofs(self)
     }
     fn params_info(&self) -> &[ParamInfo] {
-        self.0.params_info()
+        DynModel::dyn_params_info(self)
     }
     fn param_value(&self, index: usize) -> f64 {
-        self.0.param_value(index)
+        DynModel::dyn_param_value(self, index)
     }
     fn set_param_value(&mut self, index: usize, value: f64) {
-        self.0.set_param_value(index, value)
+        DynModel::dyn_set_param_value(self, index, value)
     }
     fn signals(&self) -> &[Signal] {
-        self.0.signals()
+        DynModel::dyn_signals(self)
     }
     fn outputs(&self) -> &[Output] {
-        self.0.outputs()
+        DynModel::dyn_outputs(self)
     }
     fn degree(&self) -> usize {
-        self.0.degree()
+        DynModel::dyn_degree(self)
     }
     fn max_forcing_harmonic(&self) -> usize {
-        self.0.max_forcing_harmonic()
+        DynModel::dyn_max_forcing_harmonic(self)
     }
     fn parametric_harmonic(&self) -> usize {
-        self.0.parametric_harmonic()
+        DynModel::dyn_parametric_harmonic(self)
     }
     fn equations(&self) -> &[Text] {
-        self.0.equations()
+        DynModel::dyn_equations(self)
     }
     fn affine_signals(&self) -> &[bool] {
-        self.0.affine_signals()
+        DynModel::dyn_affine_signals(self)
     }
     fn signal_reads(&self) -> &[bool] {
-        self.0.signal_reads()
+        DynModel::dyn_signal_reads(self)
     }
     fn explicit_omega(&self) -> bool {
-        self.0.explicit_omega()
+        DynModel::dyn_explicit_omega(self)
     }
     fn residual<D: Scalar>(
         &self,
@@ -255,16 +281,83 @@ impl Model for BoxedModel {
         signals: &[D],
         out: &mut [D],
     ) {
-        D::residual_of(&*self.0, params, omega, phase, signals, out)
+        D::residual_of(self, params, omega, phase, signals, out)
     }
     fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
-        self.0.check_coefficients(params, omega)
+        DynModel::dyn_check_coefficients(self, params, omega)
     }
     fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
-        self.0.set_param(name, value)
+        DynModel::dyn_set_param(self, name, value)
     }
     fn validate(&self) -> Result<(), Error> {
-        self.0.validate()
+        DynModel::dyn_validate(self)
+    }
+}
+
+impl Model for BoxedModel {
+    fn name(&self) -> &str {
+        DynModel::dyn_name(self.as_dyn())
+    }
+    fn description(&self) -> &str {
+        DynModel::dyn_description(self.as_dyn())
+    }
+    fn dofs(&self) -> &[Text] {
+        DynModel::dyn_dofs(self.as_dyn())
+    }
+    fn params_info(&self) -> &[ParamInfo] {
+        DynModel::dyn_params_info(self.as_dyn())
+    }
+    fn param_value(&self, index: usize) -> f64 {
+        DynModel::dyn_param_value(self.as_dyn(), index)
+    }
+    fn set_param_value(&mut self, index: usize, value: f64) {
+        DynModel::dyn_set_param_value(self.as_dyn_mut(), index, value)
+    }
+    fn signals(&self) -> &[Signal] {
+        DynModel::dyn_signals(self.as_dyn())
+    }
+    fn outputs(&self) -> &[Output] {
+        DynModel::dyn_outputs(self.as_dyn())
+    }
+    fn degree(&self) -> usize {
+        DynModel::dyn_degree(self.as_dyn())
+    }
+    fn max_forcing_harmonic(&self) -> usize {
+        DynModel::dyn_max_forcing_harmonic(self.as_dyn())
+    }
+    fn parametric_harmonic(&self) -> usize {
+        DynModel::dyn_parametric_harmonic(self.as_dyn())
+    }
+    fn equations(&self) -> &[Text] {
+        DynModel::dyn_equations(self.as_dyn())
+    }
+    fn affine_signals(&self) -> &[bool] {
+        DynModel::dyn_affine_signals(self.as_dyn())
+    }
+    fn signal_reads(&self) -> &[bool] {
+        DynModel::dyn_signal_reads(self.as_dyn())
+    }
+    fn explicit_omega(&self) -> bool {
+        DynModel::dyn_explicit_omega(self.as_dyn())
+    }
+    fn residual<D: Scalar>(
+        &self,
+        params: &[D],
+        omega: D,
+        phase: f64,
+        signals: &[D],
+        out: &mut [D],
+    ) {
+        D::residual_of(self.as_dyn(), params, omega, phase, signals, out)
+    }
+    fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
+        DynModel::dyn_check_coefficients(self.as_dyn(), params, omega)
+    }
+    fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        DynModel::dyn_set_param(self.as_dyn_mut(), name, value)
+    }
+    fn validate(&self) -> Result<(), Error> {
+        DynModel::dyn_validate(self.as_dyn())
     }
 }
 

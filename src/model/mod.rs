@@ -14,11 +14,13 @@ use num_dual::{Dual64, DualNum, HyperDual64};
 use std::borrow::Cow;
 
 mod boxed;
+mod with_params;
 pub use boxed::{BoxedModel, DynModel};
+pub use with_params::WithParams;
 
 /// The scalar types the solvers evaluate a residual in: `f64` (values), [`Dual64`]
 /// (first derivatives: Jacobians, ∂R/∂Ω, ∂R/∂θ) and [`HyperDual64`] (second
-/// derivatives: fold and bifurcation curves). The set is closed — a [`BoxedModel`]
+/// derivatives: fold and bifurcation curves). The set is closed — [`DynModel`]
 /// dispatches on it — and a model implements [`Model::residual`] for any
 /// `D: DualNum<Primitive = f64> + Copy`, which covers all three.
 pub trait Scalar: DualNum<Primitive = f64> + Copy + boxed::Dispatch {}

@@ -31,7 +31,7 @@ use selection::*;
 
 use crate::balance::Balance;
 use crate::error::{Error, Result};
-use crate::model::{Model, Order};
+use crate::model::{DynModel, Model, Order};
 use crate::results::BifurcationKind;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Mat, Par};
@@ -172,14 +172,14 @@ pub struct TrackCounts {
 
 impl Hill {
     /// A workspace for `model` truncated at `harmonics` harmonics.
-    pub fn new<M: Model>(model: &M, harmonics: usize) -> Result<Hill> {
+    pub fn new(model: &dyn DynModel, harmonics: usize) -> Result<Hill> {
         Self::with_period(model, harmonics, 1)
     }
 
     /// [`Hill::new`] for the balance of solutions of `period` forcing periods
     /// ([`Balance::with_period`](crate::balance::Balance::with_period)), whose samples it
     /// shares.
-    pub fn with_period<M: Model>(model: &M, harmonics: usize, period: usize) -> Result<Hill> {
+    pub fn with_period(model: &dyn DynModel, harmonics: usize, period: usize) -> Result<Hill> {
         crate::fourier::check_harmonics(harmonics)?;
         let ndof = model.dofs().len();
         crate::balance::check_size(ndof, harmonics)?;
@@ -198,12 +198,7 @@ impl Hill {
     /// The projections at the solution `coeffs` ([`operator::Operator::project_gradients`]);
     /// a change between integer and fractional orders forgets the tracked exponents
     /// (they were of the other kind of problem).
-    fn project<M: Model>(
-        &mut self,
-        bal: &mut Balance<'_, M>,
-        coeffs: &[f64],
-        omega: f64,
-    ) -> Result<()> {
+    fn project(&mut self, bal: &mut Balance<'_>, coeffs: &[f64], omega: f64) -> Result<()> {
         if self.op.project_gradients(bal, coeffs, omega)? {
             self.tr.state = None;
         }
@@ -218,9 +213,9 @@ impl Hill {
     /// Floquet exponents and stability of the solution `coeffs` at frequency `omega`
     /// (parameters as currently set in `bal`): the full analysis, a companion
     /// eigensolve at every call. Along a curve, [`Hill::track`] is much cheaper.
-    pub fn analyse<M: Model>(
+    pub fn analyse(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         coeffs: &[f64],
         omega: f64,
         opts: &StabilityOptions,
@@ -379,9 +374,9 @@ impl Hill {
     ///     assert_eq!(hill.unstable_roots(&mut bal, &rest, 3.0, &opts).unwrap(), unstable);
     /// }
     /// ```
-    pub fn unstable_roots<M: Model>(
+    pub fn unstable_roots(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         coeffs: &[f64],
         omega: f64,
         opts: &StabilityOptions,
@@ -405,9 +400,9 @@ impl Hill {
     /// [`Hill::reset`] when the next point does not continue the previous one (new
     /// segment, a fold in between).
     /// The result is the full analysis's, to the iterations' tolerance (`1e-10·Ω`).
-    pub fn track<M: Model>(
+    pub fn track(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         coeffs: &[f64],
         omega: f64,
         opts: &StabilityOptions,
@@ -475,9 +470,9 @@ impl Hill {
     /// left to [`Hill::operator`]'s exact factors. For test functions that need `T`
     /// at a given `λ` rather than its roots (the torus curves of
     /// [`crate::bifurcation`]).
-    pub(crate) fn prepare_operator<M: Model>(
+    pub(crate) fn prepare_operator(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         coeffs: &[f64],
         omega: f64,
     ) -> Result<()> {
@@ -545,7 +540,7 @@ impl Hill {
 
 /// The degree of Hill's matrix polynomial: the model's highest integer derivative
 /// order, at least 1 (fractional orders are not in the polynomial).
-fn degree<M: Model>(model: &M) -> usize {
+fn degree(model: &dyn DynModel) -> usize {
     let orders = model.signals().iter().filter_map(|s| match s.order {
         Order::Int(q) => Some(q as usize),
         Order::Param(_) => None,
@@ -574,7 +569,7 @@ pub fn hill_bytes(ndof: usize, nsig: usize, degree: usize, harmonics: usize) -> 
 /// [`crate::balance::MEMORY_LIMIT`], naming the largest N that does (harmonic
 /// balance alone needs less: a sweep without stability may still fit). Checked by
 /// [`Hill::new`], and by a continuation with stability before anything else.
-pub fn check_size<M: Model>(model: &M, harmonics: usize) -> Result<()> {
+pub fn check_size(model: &dyn DynModel, harmonics: usize) -> Result<()> {
     let ndof = model.dofs().len();
     let nsig = model.signals().len();
     let degree = degree(model);

@@ -6,6 +6,7 @@
 use super::*;
 use crate::error::HillFailure;
 use crate::linalg::{complex_band_lu_factor, complex_band_lu_solve, complex_band_lu_solve_adjoint};
+use crate::model::DynModel;
 
 /// `T(λ)` at one solution and what it is made of: the projections of the signal
 /// gradients, the matrix polynomial of the integer orders, the fractional factors, and
@@ -59,8 +60,8 @@ pub(super) struct Operator {
 impl Operator {
     /// The workspace for `model` at `harmonics` harmonics, `period` forcing periods,
     /// and a polynomial of `degree`.
-    pub(super) fn new<M: Model>(
-        model: &M,
+    pub(super) fn new(
+        model: &dyn DynModel,
         harmonics: usize,
         period: usize,
         degree: usize,
@@ -132,9 +133,9 @@ impl Operator {
     /// own block formula with unit spectral factors (the same samples, so the same
     /// projection as a direct quadrature of `g φ_l φ_k`, at `O(N²)` instead of
     /// `O(M N²)`). Whether the orders changed kind ([`Operator::set_orders`]).
-    pub(super) fn project_gradients<M: Model>(
+    pub(super) fn project_gradients(
         &mut self,
-        bal: &mut Balance<'_, M>,
+        bal: &mut Balance<'_>,
         coeffs: &[f64],
         omega: f64,
     ) -> Result<bool> {
@@ -533,7 +534,7 @@ mod tests {
         // projection) and the Duffing oscillator, at complex λ.
         use crate::corrector::{solve, SolveOptions};
         use crate::models::{Duffing, QuarterCar};
-        fn check<M: Model>(model: &M, omega: f64, lambda: Complex64) {
+        fn check(model: &dyn DynModel, omega: f64, lambda: Complex64) {
             let nh = 4;
             let so = SolveOptions { harmonics: nh, ..Default::default() };
             let sol = solve(model, omega, &so, None).unwrap();
@@ -602,7 +603,7 @@ mod tests {
         // (M samples, fewer than 4N + 1 for the Duffing oscillator at N = 5).
         use crate::corrector::{solve, SolveOptions};
         use crate::models::{Duffing, QuarterCar};
-        fn check<M: Model>(model: &M, omega: f64) {
+        fn check(model: &dyn DynModel, omega: f64) {
             let nh = 5;
             let sol =
                 solve(model, omega, &SolveOptions { harmonics: nh, ..Default::default() }, None)

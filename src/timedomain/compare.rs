@@ -5,7 +5,7 @@
 use super::{simulate, SimOptions};
 use crate::corrector::{solve, SolveOptions};
 use crate::error::Error;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use serde::Serialize;
 
 /// One output at one frequency.
@@ -50,8 +50,8 @@ pub struct CompareRow {
 /// let rows = compare(&QuarterCar::default(), &[8.0], &sim, &SolveOptions::default()).unwrap();
 /// assert!(rows[0].outputs[0].rel_diff < 1e-3);
 /// ```
-pub fn compare<M: Model>(
-    model: &M,
+pub fn compare(
+    model: &dyn DynModel,
     omegas: &[f64],
     sim: &SimOptions,
     hb: &SolveOptions,
@@ -75,8 +75,8 @@ pub fn compare<M: Model>(
 
 /// The comparison at one frequency (`omega` checked by the caller, or reported as
 /// the methods' failure in the row).
-pub fn compare_at<M: Model>(
-    model: &M,
+pub fn compare_at(
+    model: &dyn DynModel,
     omega: f64,
     sim: &SimOptions,
     hb: &SolveOptions,

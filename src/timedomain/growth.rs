@@ -12,7 +12,7 @@
 use super::newmark::{PeriodicStart, Stepper};
 use super::{budget, invalid, plan, stepper_options, RunPlan, SimOptions};
 use crate::error::Error;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use serde::Serialize;
 
 /// How a perturbation of a periodic solution evolved ([`growth`]).
@@ -60,8 +60,8 @@ pub struct Growth {
 /// assert!((rate / hill.max_real - 1.0).abs() < 0.1, "{rate} vs {}", hill.max_real);
 /// # Ok::<(), ihbm::Error>(())
 /// ```
-pub fn growth<M: Model>(
-    model: &M,
+pub fn growth(
+    model: &dyn DynModel,
     omega: f64,
     start: &PeriodicStart,
     opts: &SimOptions,

@@ -78,7 +78,7 @@ pub use weights::Scheme;
 use crate::balance::size::{largest_fitting, readable_bytes};
 use crate::balance::MEMORY_LIMIT;
 use crate::error::Error;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 use serde::Serialize;
 use std::f64::consts::TAU;
 
@@ -184,8 +184,8 @@ fn invalid(what: &str, value: impl ToString, expected: impl Into<String>) -> Err
 /// estimated before anything is allocated: each fractional signal's history
 /// ([`History::bytes`]), the last 20 periods of every output, and the whole
 /// trajectory when it is recorded.
-pub fn estimate_bytes<M: Model>(
-    model: &M,
+pub fn estimate_bytes(
+    model: &dyn DynModel,
     steps: usize,
     steps_per_period: f64,
     opts: &SimOptions,
@@ -221,7 +221,7 @@ struct RunPlan {
     bytes: f64,
 }
 
-fn plan<M: Model>(model: &M, omega: f64, opts: &SimOptions, runs: f64) -> Result<RunPlan, Error> {
+fn plan(model: &dyn DynModel, omega: f64, opts: &SimOptions, runs: f64) -> Result<RunPlan, Error> {
     if !(omega.is_finite() && omega > 0.0) {
         return Err(invalid("omega", omega, "a finite frequency > 0 in rad/s"));
     }
@@ -295,7 +295,7 @@ fn plan<M: Model>(model: &M, omega: f64, opts: &SimOptions, runs: f64) -> Result
 /// threads it waits for its share, see [`budget`]), an invalid model
 /// (see [`Model::validate`]); [`Error::Diverged`] with the time if the state stops
 /// being finite or a step's Newton iteration fails.
-pub fn simulate<M: Model>(model: &M, omega: f64, opts: &SimOptions) -> Result<Simulation, Error> {
+pub fn simulate(model: &dyn DynModel, omega: f64, opts: &SimOptions) -> Result<Simulation, Error> {
     let RunPlan { period, dt, steps, bytes } = plan(model, omega, opts, 1.0)?;
     // Parallel integrations (a study's parts) share one budget: wait, not abort.
     let _held = budget::reserve(bytes);

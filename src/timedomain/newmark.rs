@@ -37,7 +37,7 @@ use super::past::PeriodicPast;
 use super::weights::Scheme;
 use crate::error::Error;
 use crate::fourier::{apply_order, eval};
-use crate::model::{combine, combine_blocks, Model, Order};
+use crate::model::{combine, combine_blocks, DynModel, Model, Order};
 use num_dual::Dual64;
 
 /// Newmark average acceleration parameters.
@@ -185,8 +185,8 @@ impl PeriodicStart {
 /// assert!((s.time() - 10.0).abs() < 1e-12);
 /// assert!(s.displacements()[0].abs() < 2.0);
 /// ```
-pub struct Stepper<'m, M: Model> {
-    model: &'m M,
+pub struct Stepper<'m> {
+    model: &'m dyn DynModel,
     params: Vec<Dual64>,
     omega: f64,
     dt: f64,
@@ -216,7 +216,7 @@ pub struct Stepper<'m, M: Model> {
     newton_max: usize,
 }
 
-impl<M: Model> std::fmt::Debug for Stepper<'_, M> {
+impl std::fmt::Debug for Stepper<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Stepper")
             .field("model", &self.model.name())
@@ -227,13 +227,13 @@ impl<M: Model> std::fmt::Debug for Stepper<'_, M> {
     }
 }
 
-impl<'m, M: Model> Stepper<'m, M> {
+impl<'m> Stepper<'m> {
     /// Set up the integrator and solve for the initial acceleration at `t = 0`.
     ///
     /// Errors: an integer signal order above 2 (Newmark has no state for it),
     /// a fractional order outside `[0, 2]`, a non-finite or non-positive `dt`, or an
     /// initial acceleration that cannot be solved for.
-    pub fn new(model: &'m M, omega: f64, opts: &StepperOptions) -> Result<Self, Error> {
+    pub fn new(model: &'m dyn DynModel, omega: f64, opts: &StepperOptions) -> Result<Self, Error> {
         Self::start(model, omega, opts, None)
     }
 
@@ -263,7 +263,7 @@ impl<'m, M: Model> Stepper<'m, M> {
     /// assert!((s.displacements()[0] - on).abs() < 1e-4 * on.abs().max(0.1));
     /// ```
     pub fn on_periodic(
-        model: &'m M,
+        model: &'m dyn DynModel,
         omega: f64,
         start: &PeriodicStart,
         opts: &StepperOptions,
@@ -273,7 +273,7 @@ impl<'m, M: Model> Stepper<'m, M> {
     }
 
     fn start(
-        model: &'m M,
+        model: &'m dyn DynModel,
         omega: f64,
         opts: &StepperOptions,
         periodic: Option<&PeriodicStart>,

@@ -11,13 +11,13 @@
 //! before looking at the signal.
 
 use crate::linearisation::linear_mode;
-use crate::model::Model;
+use crate::model::{DynModel, Model};
 pub use crate::results::StartUp;
 
 /// The slowest-decaying free mode of `model` at rest after `duration` seconds, or
 /// `None` when the linearisation has no oscillatory mode to speak of (no mass, or
 /// unstable at rest: the drift is then all there is to go by).
-pub fn start_up<M: Model>(model: &M, duration: f64) -> Option<StartUp> {
+pub fn start_up(model: &dyn DynModel, duration: f64) -> Option<StartUp> {
     let modes = (1..=model.dofs().len()).filter_map(|k| linear_mode(model, k).ok());
     let slowest = modes.min_by(|a, b| a.xi.total_cmp(&b.xi))?;
     let decay_time = if slowest.xi > 0.0 { 2.0 / slowest.xi } else { f64::INFINITY };
