@@ -11,8 +11,8 @@
 
 use crate::error::{Error, Result};
 use crate::model::{DynModel, Model};
+use ihbm_fft::{ComplexToReal, Planner, RealToComplex};
 use num_complex::Complex64;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -352,9 +352,9 @@ impl Fourier {
                 expected: format!("more than 2N = {}", 2 * harmonics),
             });
         }
-        let mut planner = RealFftPlanner::<f64>::new();
-        let r2c = planner.plan_fft_forward(samples);
-        let c2r = planner.plan_fft_inverse(samples);
+        let mut planner = Planner::new();
+        let r2c = planner.forward(samples);
+        let c2r = planner.inverse(samples);
         let scratch_fwd = r2c.make_scratch_vec();
         let scratch_inv = c2r.make_scratch_vec();
         Ok(Fourier {

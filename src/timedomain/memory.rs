@@ -16,8 +16,8 @@
 //!   nothing is allocated while stepping.
 
 use crate::error::Error;
+use ihbm_fft::{ComplexToReal, Planner, RealToComplex};
 use num_complex::Complex64;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -173,13 +173,13 @@ impl FastHistory {
     /// Room for `weights.len()` values; plans and weight spectra for every level.
     pub fn new(weights: Vec<f64>) -> Self {
         let cap = weights.len();
-        let mut planner = RealFftPlanner::<f64>::new();
+        let mut planner = Planner::new();
         let mut levels = Vec::new();
         let mut scratch_len = 0;
         for b in level_sizes(cap) {
             let n = 2 * b;
-            let forward = planner.plan_fft_forward(n);
-            let inverse = planner.plan_fft_inverse(n);
+            let forward = planner.forward(n);
+            let inverse = planner.inverse(n);
             let mut time: Vec<f64> = (0..n)
                 .map(|l| if l + 1 < cap && l + 1 < n { weights[l + 1] } else { 0.0 })
                 .collect();
