@@ -294,70 +294,80 @@ impl Model for dyn DynModel + '_ {
     }
 }
 
+/// The methods of [`Model`] that describe the equations (all but the parameter
+/// values), forwarded to the `&dyn DynModel` that `$inner` names: how a handle or a
+/// view of a model is a [`Model`] itself.
+macro_rules! forward_equations {
+    ($self:ident => $inner:expr) => {
+        fn name(&$self) -> &str {
+            Model::name($inner)
+        }
+        fn description(&$self) -> &str {
+            Model::description($inner)
+        }
+        fn dofs(&$self) -> &[Text] {
+            Model::dofs($inner)
+        }
+        fn params_info(&$self) -> &[ParamInfo] {
+            Model::params_info($inner)
+        }
+        fn signals(&$self) -> &[Signal] {
+            Model::signals($inner)
+        }
+        fn outputs(&$self) -> &[Output] {
+            Model::outputs($inner)
+        }
+        fn degree(&$self) -> usize {
+            Model::degree($inner)
+        }
+        fn max_forcing_harmonic(&$self) -> usize {
+            Model::max_forcing_harmonic($inner)
+        }
+        fn parametric_harmonic(&$self) -> usize {
+            Model::parametric_harmonic($inner)
+        }
+        fn equations(&$self) -> &[Text] {
+            Model::equations($inner)
+        }
+        fn affine_signals(&$self) -> &[bool] {
+            Model::affine_signals($inner)
+        }
+        fn signal_reads(&$self) -> &[bool] {
+            Model::signal_reads($inner)
+        }
+        fn explicit_omega(&$self) -> bool {
+            Model::explicit_omega($inner)
+        }
+        fn residual<D: Scalar>(
+            &$self,
+            params: &[D],
+            omega: D,
+            phase: f64,
+            signals: &[D],
+            out: &mut [D],
+        ) {
+            Model::residual($inner, params, omega, phase, signals, out)
+        }
+        fn check_coefficients(&$self, params: &[f64], omega: f64) -> Result<(), Error> {
+            Model::check_coefficients($inner, params, omega)
+        }
+    };
+}
+pub(super) use forward_equations;
+
 impl Model for BoxedModel {
-    fn name(&self) -> &str {
-        DynModel::dyn_name(self.as_dyn())
-    }
-    fn description(&self) -> &str {
-        DynModel::dyn_description(self.as_dyn())
-    }
-    fn dofs(&self) -> &[Text] {
-        DynModel::dyn_dofs(self.as_dyn())
-    }
-    fn params_info(&self) -> &[ParamInfo] {
-        DynModel::dyn_params_info(self.as_dyn())
-    }
+    forward_equations!(self => self.as_dyn());
     fn param_value(&self, index: usize) -> f64 {
-        DynModel::dyn_param_value(self.as_dyn(), index)
+        Model::param_value(self.as_dyn(), index)
     }
     fn set_param_value(&mut self, index: usize, value: f64) {
-        DynModel::dyn_set_param_value(self.as_dyn_mut(), index, value)
-    }
-    fn signals(&self) -> &[Signal] {
-        DynModel::dyn_signals(self.as_dyn())
-    }
-    fn outputs(&self) -> &[Output] {
-        DynModel::dyn_outputs(self.as_dyn())
-    }
-    fn degree(&self) -> usize {
-        DynModel::dyn_degree(self.as_dyn())
-    }
-    fn max_forcing_harmonic(&self) -> usize {
-        DynModel::dyn_max_forcing_harmonic(self.as_dyn())
-    }
-    fn parametric_harmonic(&self) -> usize {
-        DynModel::dyn_parametric_harmonic(self.as_dyn())
-    }
-    fn equations(&self) -> &[Text] {
-        DynModel::dyn_equations(self.as_dyn())
-    }
-    fn affine_signals(&self) -> &[bool] {
-        DynModel::dyn_affine_signals(self.as_dyn())
-    }
-    fn signal_reads(&self) -> &[bool] {
-        DynModel::dyn_signal_reads(self.as_dyn())
-    }
-    fn explicit_omega(&self) -> bool {
-        DynModel::dyn_explicit_omega(self.as_dyn())
-    }
-    fn residual<D: Scalar>(
-        &self,
-        params: &[D],
-        omega: D,
-        phase: f64,
-        signals: &[D],
-        out: &mut [D],
-    ) {
-        D::residual_of(self.as_dyn(), params, omega, phase, signals, out)
-    }
-    fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
-        DynModel::dyn_check_coefficients(self.as_dyn(), params, omega)
+        Model::set_param_value(self.as_dyn_mut(), index, value)
     }
     fn set_param(&mut self, name: &str, value: f64) -> Result<(), Error> {
-        DynModel::dyn_set_param(self.as_dyn_mut(), name, value)
+        Model::set_param(self.as_dyn_mut(), name, value)
     }
     fn validate(&self) -> Result<(), Error> {
-        DynModel::dyn_validate(self.as_dyn())
+        Model::validate(self.as_dyn())
     }
 }
 

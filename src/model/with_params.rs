@@ -1,5 +1,6 @@
 //! A model with parameter values of its own: [`WithParams`].
 
+use super::boxed::forward_equations;
 use super::{DynModel, Model, Output, ParamInfo, Scalar, Signal, Text};
 use crate::error::Error;
 
@@ -51,62 +52,11 @@ impl std::fmt::Debug for WithParams<'_> {
 }
 
 impl Model for WithParams<'_> {
-    fn name(&self) -> &str {
-        self.base.name()
-    }
-    fn description(&self) -> &str {
-        self.base.description()
-    }
-    fn dofs(&self) -> &[Text] {
-        self.base.dofs()
-    }
-    fn params_info(&self) -> &[ParamInfo] {
-        self.base.params_info()
-    }
+    forward_equations!(self => self.base);
     fn param_value(&self, index: usize) -> f64 {
         self.values[index]
     }
     fn set_param_value(&mut self, index: usize, value: f64) {
         self.values[index] = value;
-    }
-    fn signals(&self) -> &[Signal] {
-        self.base.signals()
-    }
-    fn outputs(&self) -> &[Output] {
-        self.base.outputs()
-    }
-    fn degree(&self) -> usize {
-        self.base.degree()
-    }
-    fn max_forcing_harmonic(&self) -> usize {
-        self.base.max_forcing_harmonic()
-    }
-    fn parametric_harmonic(&self) -> usize {
-        self.base.parametric_harmonic()
-    }
-    fn equations(&self) -> &[Text] {
-        self.base.equations()
-    }
-    fn affine_signals(&self) -> &[bool] {
-        self.base.affine_signals()
-    }
-    fn signal_reads(&self) -> &[bool] {
-        self.base.signal_reads()
-    }
-    fn explicit_omega(&self) -> bool {
-        self.base.explicit_omega()
-    }
-    fn residual<D: Scalar>(
-        &self,
-        params: &[D],
-        omega: D,
-        phase: f64,
-        signals: &[D],
-        out: &mut [D],
-    ) {
-        Model::residual(self.base, params, omega, phase, signals, out)
-    }
-    fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
-        self.base.check_coefficients(params, omega)
     }
 }
