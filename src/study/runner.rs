@@ -34,10 +34,32 @@ struct TdPlan {
     sim: SimSettings,
 }
 
+/// What a figure computes: one kind or the other, never a mix (the study file's
+/// checks refuse `timedomain`, `check` and `backbone` in a fold figure).
+enum FigureKind {
+    /// Amplitude–frequency curves, one per value of `vary`, with comparisons against
+    /// time integration and backbones drawn over them.
+    Curves {
+        td: Vec<TdPlan>,
+        /// The backbones drawn over the curves (of `td_model`: the figure's model).
+        backbone: Option<BackboneSpec>,
+    },
+    /// Fold, period-doubling or torus curves in the plane of Ω and a parameter, one
+    /// analysis per value of `vary`.
+    Folds(FoldPlan),
+}
+
+/// The parameter and range of a fold figure.
+struct FoldPlan {
+    param: String,
+    from: f64,
+    to: f64,
+    boundary: crate::bifurcation::Boundary,
+}
+
 struct FigurePlan {
     id: String,
-    /// A fold figure: the parameter and its range (each "curve" is then one analysis).
-    folds: Option<(String, f64, f64, crate::bifurcation::Boundary)>,
+    kind: FigureKind,
     title: String,
     unit: FreqUnit,
     outputs: Vec<String>,
@@ -45,12 +67,29 @@ struct FigurePlan {
     harmonics: usize,
     curves: Vec<CurvePlan>,
     td_model: NamedModel,
-    td: Vec<TdPlan>,
-    /// The backbones drawn over the curves (of `td_model`: the figure's model).
-    backbone: Option<BackboneSpec>,
 }
 
 impl FigurePlan {
+    /// The time-domain comparison points (none in a fold figure).
+    fn td(&self) -> &[TdPlan] {
+        match &self.kind {
+            FigureKind::Curves { td, .. } => td,
+            FigureKind::Folds(_) => &[],
+        }
+    }
+
+    /// The backbones asked for (never in a fold figure).
+    fn backbone(&self) -> Option<&BackboneSpec> {
+        match &self.kind {
+            FigureKind::Curves { backbone, .. } => backbone.as_ref(),
+            FigureKind::Folds(_) => None,
+        }
+    }
+
+    fn is_folds(&self) -> bool {
+        matches!(self.kind, FigureKind::Folds(_))
+    }
+
     /// The stem of the files of the backbone of `mode` continued in `output`.
     fn backbone_stem(&self, mode: usize, output: &str) -> String {
         format!("{}_backbone{mode}_{output}", self.id)
@@ -59,7 +98,7 @@ impl FigurePlan {
     /// The modes whose backbones may be drawn: those listed, or (for `true`) every
     /// mode of the model, of which those in the frequency range are.
     fn backbone_modes(&self) -> Vec<usize> {
-        match self.backbone.as_ref().map(BackboneSpec::modes) {
+        match self.backbone().map(BackboneSpec::modes) {
             None => Vec::new(),
             Some(Some(m)) => m.to_vec(),
             Some(None) => (1..=self.td_model.dofs().len()).collect(),
@@ -67,25 +106,25 @@ impl FigurePlan {
     }
 }
 
-/// One parallel job: a curve, a fold analysis, or a harmonic-balance/time-integration
-/// comparison — of figure `.0`, its curve or time-domain point `.1`.
+/// One parallel job of figure `.0`: the analysis at its value `.1` (a curve, or fold
+/// curves, by the figure's kind), or its harmonic-balance/time-integration comparison
+/// at point `.1`.
 #[derive(Clone, Copy)]
 enum Job {
-    Curve(usize, usize),
-    Folds(usize, usize),
+    Value(usize, usize),
     Compare(usize, usize),
 }
 
 impl Job {
     fn figure(self) -> usize {
         match self {
-            Job::Curve(f, _) | Job::Folds(f, _) | Job::Compare(f, _) => f,
+            Job::Value(f, _) | Job::Compare(f, _) => f,
         }
     }
 
     fn index(self) -> usize {
         match self {
-            Job::Curve(_, k) | Job::Folds(_, k) | Job::Compare(_, k) => k,
+            Job::Value(_, k) | Job::Compare(_, k) => k,
         }
     }
 }
@@ -159,12 +198,21 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
                 }
             }
         }
+        let kind = match &fig.folds {
+            Some(f) => FigureKind::Folds(FoldPlan {
+                param: f.param.get_ref().clone(),
+                from: f.from,
+                to: f.to,
+                boundary: f.boundary,
+            }),
+            None => FigureKind::Curves {
+                td,
+                backbone: fig.backbone.as_ref().map(|b| b.get_ref().clone()),
+            },
+        };
         plans.push(FigurePlan {
             title: fig.title.clone().unwrap_or_else(|| id.clone()),
-            folds: fig
-                .folds
-                .as_ref()
-                .map(|f| (f.param.get_ref().clone(), f.from, f.to, f.boundary)),
+            kind,
             id,
             unit: fig.unit.unwrap_or(study.unit),
             outputs: study.figure_outputs(fig, &model),
@@ -172,8 +220,6 @@ fn plan(study: &Study, reg: &Registry) -> Result<Vec<FigurePlan>> {
             harmonics,
             curves,
             td_model: model,
-            td,
-            backbone: fig.backbone.as_ref().map(|b| b.get_ref().clone()),
         });
     }
     Ok(plans)
@@ -193,7 +239,7 @@ pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
             files.push((format!("{}.csv", c.stem), part.clone()));
             files.push((format!("{}.json", c.stem), part));
         }
-        if !p.td.is_empty() {
+        if !p.td().is_empty() {
             files.push((format!("{}_timedomain.csv", p.id), format!("figure '{}'", p.id)));
         }
         for k in p.backbone_modes() {
@@ -203,7 +249,7 @@ pub fn output_files(study: &Study, reg: &Registry) -> Result<Vec<String>> {
                 files.push((format!("{}.json", p.backbone_stem(k, o)), part));
             }
         }
-        if p.folds.is_some() && p.curves.len() > 1 {
+        if p.is_folds() && p.curves.len() > 1 {
             files.push((format!("{}_cusps.svg", p.id), format!("figure '{}'", p.id)));
         }
         files.push((format!("{}.svg", p.id), format!("figure '{}'", p.id)));
@@ -365,12 +411,8 @@ impl Jobs {
     fn new(plans: &[FigurePlan], dir: PathBuf, log: RunLog) -> Self {
         let mut list = Vec::new();
         for (f, p) in plans.iter().enumerate() {
-            if p.folds.is_some() {
-                list.extend((0..p.curves.len()).map(|k| Job::Folds(f, k)));
-            } else {
-                list.extend((0..p.curves.len()).map(|k| Job::Curve(f, k)));
-            }
-            list.extend((0..p.td.len()).map(|k| Job::Compare(f, k)));
+            list.extend((0..p.curves.len()).map(|k| Job::Value(f, k)));
+            list.extend((0..p.td().len()).map(|k| Job::Compare(f, k)));
         }
         let slots = list.iter().map(|_| Mutex::new(Slot::Pending)).collect();
         let traces = list.iter().map(|_| TraceCopy::default()).collect();
@@ -393,11 +435,13 @@ impl Jobs {
                 return;
             }
             let job = self.list[i];
-            let partial = matches!(job, Job::Curve(..)).then_some(Partial::Curve);
+            let kind = &plans[job.figure()].kind;
+            let partial = matches!((job, kind), (Job::Value(..), FigureKind::Curves { .. }))
+                .then_some(Partial::Curve);
             self.set(i, Slot::Running(partial));
             let t = Instant::now();
-            let r = match job {
-                Job::Curve(f, k) => {
+            let r = match (job, kind) {
+                (Job::Value(f, k), FigureKind::Curves { .. }) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
                     let progress = progress::Stoppable {
                         inner: progress::CurveProgress::new(self.pb.clone(), c.model.name()),
@@ -407,10 +451,16 @@ impl Jobs {
                     let (lo, hi) = p.range;
                     Done::Curve(c.model.sweep(lo, hi, &c.sweep, &mut watch).map(Box::new))
                 }
-                Job::Folds(f, k) => {
+                (Job::Value(f, k), FigureKind::Folds(fp)) => {
                     let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let (param, from, to, boundary) = p.folds.clone().unwrap_or_default();
-                    let range = FoldRange { param: &param, from, to, omega: p.range, boundary };
+                    let boundary = fp.boundary;
+                    let range = FoldRange {
+                        param: &fp.param,
+                        from: fp.from,
+                        to: fp.to,
+                        omega: p.range,
+                        boundary,
+                    };
                     let label = format!("{}: {boundary} curves, {}", p.id, c.label);
                     let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
                         self.set(i, Slot::Running(Some(Partial::Folds(Box::new(fc.clone())))));
@@ -422,8 +472,8 @@ impl Jobs {
                     };
                     Done::Folds(c.model.fold_curves(&range, &c.sweep, &mut watch).map(Box::new))
                 }
-                Job::Compare(f, k) => {
-                    let (p, td) = (&plans[f], &plans[f].td[k]);
+                (Job::Compare(f, k), _) => {
+                    let (p, td) = (&plans[f], &plans[f].td()[k]);
                     Done::Compare(p.td_model.compare(td.omega, &td.sim, p.harmonics))
                 }
             };
@@ -479,7 +529,7 @@ impl Jobs {
             .map(|p| Finished {
                 curves: p.curves.iter().map(|_| None).collect(),
                 folds: p.curves.iter().map(|_| None).collect(),
-                rows: p.td.iter().map(|_| None).collect(),
+                rows: p.td().iter().map(|_| None).collect(),
                 backbones: Vec::new(),
                 seconds: 0.0,
             })
@@ -541,11 +591,9 @@ impl Jobs {
 /// How a job is named in failures and in the summary.
 fn part_name(plans: &[FigurePlan], job: Job) -> String {
     match job {
-        Job::Curve(f, k) | Job::Folds(f, k) => {
-            format!("{}, {}", plans[f].id, plans[f].curves[k].label)
-        }
+        Job::Value(f, k) => format!("{}, {}", plans[f].id, plans[f].curves[k].label),
         Job::Compare(f, k) => {
-            let td = &plans[f].td[k];
+            let td = &plans[f].td()[k];
             format!(
                 "{}, time-domain check ({}) at Ω = {}",
                 plans[f].id,
@@ -578,7 +626,7 @@ fn backbones(plans: &[FigurePlan], tops: &[Vec<f64>]) -> Vec<(Vec<SweepBackbone>
         .par_iter()
         .zip(tops.par_iter())
         .map(|(p, tops)| {
-            let Some(spec) = &p.backbone else { return (Vec::new(), 0.0) };
+            let Some(spec) = p.backbone() else { return (Vec::new(), 0.0) };
             let t = Instant::now();
             let (range, keep) = match spec.modes() {
                 None => (p.range, None),
@@ -630,7 +678,7 @@ fn write(dir: &Path, name: String, text: &str, out: &mut StudyOutcome) {
 /// value).
 fn td_rows(p: &FigurePlan, done: &Finished) -> Vec<TdRow> {
     let mut rows = Vec::new();
-    for (row, tp) in done.rows.iter().zip(&p.td) {
+    for (row, tp) in done.rows.iter().zip(p.td()) {
         let Some(row) = row else { continue };
         for o in row.outputs.iter().filter(|o| o.hb_max_abs.is_finite() && o.td_max_abs.is_finite())
         {
@@ -656,8 +704,8 @@ fn write_figure<'a>(
     dir: &Path,
     out: &mut StudyOutcome,
 ) -> FigureResult<'a> {
-    if p.folds.is_some() {
-        return write_fold_figure(study, f, p, done, dir, out);
+    if let FigureKind::Folds(fp) = &p.kind {
+        return write_fold_figure(study, f, p, fp, done, dir, out);
     }
     let mut members = Vec::new();
     for (c, plan) in done.curves.iter().zip(&p.curves) {
@@ -666,7 +714,7 @@ fn write_figure<'a>(
         }
     }
     let td_rows = td_rows(p, done);
-    if !p.td.is_empty() {
+    if !p.td().is_empty() {
         let mut csv = String::from("omega,scheme,output,ihbm_max_abs,sim_max_abs,rel_diff\n");
         for r in &td_rows {
             csv.push_str(&format!(
@@ -738,7 +786,7 @@ fn write_backbones(
     dir: &Path,
     out: &mut StudyOutcome,
 ) -> Vec<report::Overlay> {
-    if p.backbone.is_none() {
+    if p.backbone().is_none() {
         return Vec::new();
     }
     let names: Vec<String> = p.td_model.outputs().iter().map(|o| o.name.to_string()).collect();
@@ -759,7 +807,7 @@ fn write_backbones(
         }
         let why = if done.curves.iter().all(Option::is_none) {
             "no curve finished to take the amplitudes from"
-        } else if p.backbone.as_ref().and_then(BackboneSpec::modes).is_some() {
+        } else if p.backbone().and_then(BackboneSpec::modes).is_some() {
             "the modes asked for have no oscillatory linear mode to start from"
         } else {
             "no mode's linear natural frequency lies in the range"
@@ -825,6 +873,7 @@ fn write_fold_figure<'a>(
     study: &'a Study,
     f: usize,
     p: &FigurePlan,
+    fp: &FoldPlan,
     done: &'a Finished,
     dir: &Path,
     out: &mut StudyOutcome,
@@ -844,7 +893,7 @@ fn write_fold_figure<'a>(
         write_svg(dir, format!("{}.svg", p.id), svg, &p.id, out);
         let vary = study.figures[f].vary.as_ref().map(|v| v.get_ref().to_string());
         if let (Some(vary), true) = (vary, p.curves.len() > 1) {
-            let param = p.folds.as_ref().map_or("", |x| x.0.as_str());
+            let param = &fp.param;
             let title = format!("{}: the onset in {param} against {vary}", p.title);
             let points: Vec<(f64, f64)> =
                 folds.iter().filter_map(|m| m.onset().map(|c| (m.value, c.value))).collect();
