@@ -202,35 +202,16 @@ fn a_signal_inside_one_long_point_stops_within_seconds() {
     assert_whole(&out, None);
 
     let json = dir.join("sweep.json");
-    let child = Command::new(env!("CARGO_BIN_EXE_ihbm"))
-        .args(["sweep", "quarter-car", "--from", "1", "--to", "100", "--harmonics", "800"])
-        .arg("--json")
-        .arg(&json)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_secs(1));
-    let (code, err, waited) = stop_and_wait(child, "-TERM");
-    assert!(waited < Duration::from_secs(5), "exited {waited:?} after the signal");
-    assert_eq!(code, Some(130), "{err}");
+    let sweep = ["sweep", "quarter-car", "--from", "1", "--to", "100", "--harmonics", "800"];
+    let err = terminated(&sweep, &json, Duration::from_secs(1));
     assert_eq!(err.trim_end(), "error: interrupted before the first point: nothing written");
     assert!(!json.exists());
 
     // A fold analysis: its end sweeps at N = 600 take minutes too.
     let json = dir.join("folds.json");
-    let child = Command::new(env!("CARGO_BIN_EXE_ihbm"))
-        .args(["folds", "duffing", "--param", "F", "--from", "0.01", "--to", "0.3"])
-        .args(["--omega-from", "0.5", "--omega-to", "3", "--harmonics", "600", "--json"])
-        .arg(&json)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_secs(1));
-    let (code, err, waited) = stop_and_wait(child, "-TERM");
-    assert!(waited < Duration::from_secs(5), "exited {waited:?} after the signal");
-    assert_eq!(code, Some(130), "{err}");
+    let folds = ["folds", "duffing", "--param", "F", "--from", "0.01", "--to", "0.3"];
+    let window = ["--omega-from", "0.5", "--omega-to", "3", "--harmonics", "600"];
+    let err = terminated(&[&folds[..], &window].concat(), &json, Duration::from_secs(1));
     assert!(err.starts_with("error: interrupted before the first fold"), "{err}");
 }
 
@@ -242,9 +223,11 @@ fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
     let dir = tmp("stopped-backbone");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
+    let cycles = ["cycle", "van-der-pol", "--omega", "1", "--param", "mu", "--from", "1"];
+    let cycles = [&cycles[..], &["--to", "-0.5", "--harmonics", "200"]].concat();
     let runs: [(&str, &[&str]); 2] = [
         ("backbone", &["backbone", "quarter-car", "--to", "300", "--harmonics", "300"]),
-        ("cycles", &["cycle", "van-der-pol", "--omega", "1", "--param", "mu", "--from", "1"]),
+        ("cycles", &cycles),
     ];
     // Both at once (each waits seconds for its points).
     std::thread::scope(|scope| {
@@ -256,25 +239,7 @@ fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
                 // machine: a signal before it writes nothing, so a later one is tried then.
                 let mut stopped = None;
                 for wait in [2, 5, 10] {
-                    let mut cmd = Command::new(env!("CARGO_BIN_EXE_ihbm"));
-                    cmd.args(args);
-                    if what == "cycles" {
-                        cmd.args(["--to", "-0.5", "--harmonics", "200"]);
-                    }
-                    let child = cmd
-                        .arg("--json")
-                        .arg(&json)
-                        .stdout(Stdio::null())
-                        .stderr(Stdio::piped())
-                        .spawn()
-                        .unwrap();
-                    std::thread::sleep(Duration::from_secs(wait));
-                    let (code, err, waited) = stop_and_wait(child, "-TERM");
-                    assert!(
-                        waited < Duration::from_secs(5),
-                        "{what}: exited {waited:?} after the signal"
-                    );
-                    assert_eq!(code, Some(130), "{what}: {err}");
+                    let err = terminated(args, &json, Duration::from_secs(wait));
                     if json.exists() {
                         stopped = Some(err);
                         break;
@@ -299,6 +264,24 @@ fn an_interrupted_backbone_or_family_writes_its_points_so_far() {
 
 /// Send `sig` and wait for the exit: its code, its standard error, and how long it
 /// took after the signal.
+/// Run `ihbm ARGS --json JSON`, send SIGTERM after `wait`, and check that it exits
+/// within the grace period (allowed: 5 s) with code 130; its standard error.
+fn terminated(args: &[&str], json: &Path, wait: Duration) -> String {
+    let child = Command::new(env!("CARGO_BIN_EXE_ihbm"))
+        .args(args)
+        .arg("--json")
+        .arg(json)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(wait);
+    let (code, err, waited) = stop_and_wait(child, "-TERM");
+    assert!(waited < Duration::from_secs(5), "{args:?}: exited {waited:?} after the signal");
+    assert_eq!(code, Some(130), "{args:?}: {err}");
+    err
+}
+
 fn stop_and_wait(child: Child, sig: &str) -> (Option<i32>, String, Duration) {
     signal(&child, sig);
     let t = Instant::now();
