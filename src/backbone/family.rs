@@ -232,8 +232,7 @@ impl<'m> CycleContinuation<'m> {
             let what = format!("end of the range of {}", opts.param);
             crate::model::check_domain(model.name(), info, &what, v)?;
         }
-        let mut m0 = WithParams::new(model);
-        m0.set_param_value(index, from);
+        let m0 = WithParams::with(model, index, from);
         let co = super::CycleOptions {
             omega: opts.omega,
             harmonics: opts.harmonics,
@@ -422,8 +421,7 @@ impl<'m> CycleContinuation<'m> {
     fn cycle_at(&mut self, y: &[f64]) -> CyclePoint {
         let p = self.tracer.point(y);
         let value = self.tracer.sys.param(y);
-        let mut mp = WithParams::new(self.model);
-        mp.set_param_value(self.index, value);
+        let mp = WithParams::with(self.model, self.index, value);
         let stability = match autonomous_stability(&mp, self.opts.harmonics, &p.coeffs, p.omega) {
             Ok((s, _)) => s,
             Err(e) => Stability::Unknown(Unknown::Failed(e.to_string())),

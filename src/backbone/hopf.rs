@@ -11,7 +11,6 @@
 //! the Illinois variant of regula falsi to 1e-12 relative (1e-12 absolute near 0).
 
 use super::{linear_mode, Hopf, Linearisation};
-use crate::model::Model;
 use crate::model::{DynModel, WithParams};
 use num_complex::Complex64;
 
@@ -86,8 +85,7 @@ fn eigenvalue(
     v: f64,
     guess: Option<Complex64>,
 ) -> Option<Complex64> {
-    let mut m = WithParams::new(model);
-    m.set_param_value(index, v);
+    let m = WithParams::with(model, index, v);
     let mut lam = match guess {
         Some(g) => g,
         None => {

@@ -425,8 +425,7 @@ impl<'m> FoldContinuation<'m> {
             )?;
         }
         for v in [from, to] {
-            let mut m = WithParams::new(model);
-            m.set_param_value(param, v);
+            let m = WithParams::with(model, param, v);
             m.validate()?;
         }
         let mut sweep_opts = opts.sweep.clone();
@@ -511,8 +510,7 @@ impl<'m> FoldContinuation<'m> {
     fn sweep_end(&mut self, end: RangeEnd) -> Result<FoldEvent> {
         let (from, to) = self.range;
         let v = if end == RangeEnd::From { from } else { to };
-        let mut m = WithParams::new(self.model);
-        m.set_param_value(self.param, v);
+        let m = WithParams::with(self.model, self.param, v);
         let (w0, w1) = self.res.omega;
         let curve = sweep(&m, w0, w1, &self.sweep_opts)?;
         let folds = start_points(&m, &curve, self.boundary, self.sweep_opts.harmonics);
@@ -540,8 +538,7 @@ impl<'m> FoldContinuation<'m> {
         let Some((end, v, start_fold, fold)) = self.next_start() else {
             return Ok(FoldEvent::Finished);
         };
-        let mut m = WithParams::new(model);
-        m.set_param_value(param, v);
+        let m = WithParams::with(model, param, v);
         let bal = Balance::new(model, harmonics)?;
         let sys = FoldSystem::new(bal, param, self.scale, self.sweep_opts.tol);
         let ci = self.res.curves.len();
