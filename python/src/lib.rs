@@ -5,31 +5,25 @@
 //! into dicts; a sweep also returns its columns as NumPy arrays built here from the
 //! curve's points. Continuation settings arrive as a JSON object and are read by the
 //! same `serde` definitions as a study file's `sweep` table. The engine's checks name
-//! arguments by their Python keywords ([`PY_NAMES`]). Every computation runs with the
-//! GIL released; continuations run on a thread of their own, re-acquiring the GIL now
-//! and then to report progress ([`Watch`]), while the calling thread looks for Ctrl-C
-//! and stops them within a fraction of a second ([`stoppable`]). Errors are `ihbm.IhbmError` with the library's
-//! message.
+//! arguments by their Python keywords ([`PY_NAMES`]). Every method builds the
+//! engine's `Analysis` and runs it with the GIL released on a thread of its own,
+//! which re-acquires the GIL now and then to report progress ([`Reporter`]), while
+//! the calling thread looks for Ctrl-C and stops it within a fraction of a second
+//! ([`run`]). Errors are `ihbm.IhbmError` with the library's message.
 
 use ihbm::backbone::FamilyOptions;
 use ihbm::bifurcation::Boundary;
-use ihbm::bifurcation::FoldCurves;
-use ihbm::continuation::{Control, Event, Observer, Trace};
-use ihbm::engine::detach::{self, Detached, Latest, TraceCopy};
-use ihbm::engine::progress;
+use ihbm::continuation::Control;
+use ihbm::engine::analysis::{Analysis, Outcome, Progress, Watch};
+use ihbm::engine::detach::{self, Ran};
 use ihbm::engine::registry::{NamedModel, Registry};
-use ihbm::engine::{
-    self, ArgNames, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
-    SweepSettings,
-};
+use ihbm::engine::{ArgNames, BackboneSettings, SimSettings, SolveSettings, SweepSettings};
 use ihbm::model::BoxedModel;
 use ihbm::results::Curve;
 use ihbm::runtime::RuntimeModel;
 use ihbm::{report, Error};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
@@ -63,20 +57,20 @@ const PY_NAMES: ArgNames = ArgNames {
 /// enough to feel live, rarely enough that other Python threads are not slowed.
 const CHECK_EVERY: Duration = Duration::from_millis(50);
 
-/// Watches a continuation running without the GIL: every [`CHECK_EVERY`] it takes the
+/// Watches an analysis running without the GIL: every [`CHECK_EVERY`] it takes the
 /// GIL to call the progress callback `(points, value)` (and to run Python's signal
-/// handlers, which only does something on the main thread: off it, [`stoppable`]
+/// handlers, which only does something on the main thread: off it, [`run`]
 /// looks for Ctrl-C). The first exception either raises stops the run; it is kept so
 /// that the caller gets the partial result with it.
-struct Watch {
+struct Reporter {
     progress: Option<Py<PyAny>>,
     last: Option<Instant>,
     stopped_by: Option<PyErr>,
 }
 
-impl Watch {
+impl Reporter {
     fn new(progress: Option<Py<PyAny>>) -> Self {
-        Watch { progress, last: None, stopped_by: None }
+        Reporter { progress, last: None, stopped_by: None }
     }
 
     /// `points` traced so far, the last at parameter `value`.
@@ -106,19 +100,9 @@ impl Watch {
     }
 }
 
-impl Observer for &mut Watch {
-    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
-        (**self).observe(event, trace)
-    }
-}
-
-impl Observer for Watch {
-    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
-        let value = match *event {
-            Event::Point(i) => trace.points.get(i).map_or(f64::NAN, |p| p.param),
-            _ => trace.points.last().map_or(f64::NAN, |p| p.param),
-        };
-        self.check(trace.points.len(), value)
+impl Watch for Reporter {
+    fn watch(&mut self, progress: &Progress<'_>) -> Control {
+        self.check(progress.points(), progress.value())
     }
 }
 
@@ -178,135 +162,63 @@ fn sweep_out<'py>(
     Ok((json_text(&report::sweep_json(curve)), curve_columns(py, curve)?, stopped_by))
 }
 
-/// Run `work` on a thread of its own while this one, without the GIL, looks for
-/// Python's signals every few milliseconds (signal handlers run on the main thread
-/// only): Ctrl-C sets the flag `work`'s observer stops at, and when the work does not
+/// Run `analysis` on `model` on a thread of its own while this one, without the GIL,
+/// looks for Python's signals every few milliseconds (signal handlers run on the main
+/// thread only): Ctrl-C stops the analysis at its next event, and when it does not
 /// return within the grace period (one point of a large problem can take minutes),
-/// `salvage` gives what it had published. `work` gets the [`Watch`] that reports its
-/// progress. The result, and the exception that stopped it.
-fn stoppable<R, F>(
+/// what it had traced is kept ([`detach::run_analysis`]). `progress` is called with
+/// the points so far and where the last is. The outcome, and the exception that
+/// stopped it (Ctrl-C, or the progress callback's), if any.
+fn run(
     py: Python<'_>,
+    model: &NamedModel,
+    analysis: &Analysis,
     progress: Option<Py<PyAny>>,
-    work: F,
-    salvage: impl FnOnce() -> Option<R>,
-) -> PyResult<(R, Option<Py<PyAny>>)>
-where
-    R: Send + 'static,
-    F: FnOnce(&mut Watch, &AtomicBool) -> ihbm::Result<R> + Send + 'static,
-{
-    let stop = Arc::new(AtomicBool::new(false));
-    let run = {
-        let stop = Arc::clone(&stop);
-        move || {
-            let mut watch = Watch::new(progress);
-            let r = work(&mut watch, &stop);
-            (r, watch.stopped_by)
-        }
-    };
+) -> PyResult<(Outcome, Option<Py<PyAny>>)> {
     let mut caught: Option<PyErr> = None;
     let ran = py.detach(|| {
-        detach::run_polled(
-            || {
-                if caught.is_none() {
-                    caught = Python::attach(|py| py.check_signals()).err();
-                    stop.store(caught.is_some(), Ordering::Relaxed);
-                }
-                caught.is_some()
-            },
-            run,
-        )
+        let stopped = || {
+            if caught.is_none() {
+                caught = Python::attach(|py| py.check_signals()).err();
+            }
+            caught.is_some()
+        };
+        detach::run_analysis(model, analysis, PY_NAMES, stopped, Reporter::new(progress))
     });
     // A Ctrl-C after the last look counts too: the whole result then goes with it
     // instead of being lost to a KeyboardInterrupt raised after the call.
     let value = |e: PyErr| Some(e.into_value(py).into_any());
     match ran {
-        Detached::Returned((r, by)) => {
+        Ran::Returned(r, reporter) => {
             let r = r.map_err(py_err)?;
-            Ok((r, by.or(caught).or_else(|| py.check_signals().err()).and_then(value)))
+            let by = reporter.stopped_by.or(caught).or_else(|| py.check_signals().err());
+            Ok((r, by.and_then(value)))
         }
-        Detached::Abandoned => match salvage() {
-            Some(r) => Ok((r, caught.and_then(value))),
-            None => {
-                Err(caught.unwrap_or_else(|| IhbmError::new_err("stopped before the first point")))
-            }
-        },
-        Detached::Panicked(why) => Err(pyo3::exceptions::PyRuntimeError::new_err(why)),
+        Ran::Abandoned(Some(r)) => Ok((r, caught.and_then(value))),
+        Ran::Abandoned(None) => {
+            Err(caught.unwrap_or_else(|| IhbmError::new_err("stopped before the first point")))
+        }
+        Ran::Panicked(why) => Err(pyo3::exceptions::PyRuntimeError::new_err(why)),
     }
 }
 
-/// [`stoppable`] for a computation with nothing to keep part way (a solve, a time
+/// [`run`] for an analysis with nothing to keep part way (a solve, a time
 /// integration, one limit cycle): Ctrl-C raises `KeyboardInterrupt` within a fraction
 /// of a second instead of when the computation is done (it is left to finish on its
 /// own thread, and its result is dropped).
-fn interruptible<R, F>(py: Python<'_>, work: F) -> PyResult<R>
-where
-    R: Send + 'static,
-    F: FnOnce() -> ihbm::Result<R> + Send + 'static,
-{
-    match stoppable(py, None, move |_, _| work(), || None)? {
+fn whole(py: Python<'_>, model: &NamedModel, analysis: &Analysis) -> PyResult<Outcome> {
+    match run(py, model, analysis, None)? {
         (r, None) => Ok(r),
         (_, Some(stopped_by)) => Err(PyErr::from_value(stopped_by.into_bound(py))),
     }
 }
 
-/// [`stoppable`] for an analysis whose observer sees the whole result so far (fold
-/// curves, a backbone, a family of limit cycles): `progress` gives the points and
-/// the value shown, and what is kept after an abandoned run is its last event's copy.
-fn watched<E, T, F>(
-    py: Python<'_>,
-    progress: Option<Py<PyAny>>,
-    analysis: F,
-    shown: fn(&T) -> (usize, f64),
-) -> PyResult<(T, Option<Py<PyAny>>)>
-where
-    E: 'static,
-    T: Clone + Send + 'static,
-    F: FnOnce(&mut dyn Observer<E, T>) -> ihbm::Result<T> + Send + 'static,
-{
-    let latest = Latest::default();
-    let published = latest.clone();
-    stoppable(
-        py,
-        progress,
-        move |watch, stop| {
-            let mut check = |_: &E, t: &T| {
-                if stop.load(Ordering::Relaxed) {
-                    return Control::Stop;
-                }
-                let (points, value) = shown(t);
-                watch.check(points, value)
-            };
-            let mut observer = published.watching(&mut check);
-            analysis(&mut observer)
-        },
-        || latest.take(),
-    )
-}
-
-/// [`stoppable`] for a curve of `model`: what is kept after an abandoned run is the
-/// curve as far as its last point.
-fn traced<F>(
-    py: Python<'_>,
-    model: NamedModel,
-    stability_checked: bool,
-    progress: Option<Py<PyAny>>,
-    trace: F,
-) -> PyResult<(Curve, Option<Py<PyAny>>)>
-where
-    F: FnOnce(&NamedModel, &mut dyn Observer) -> ihbm::Result<Curve> + Send + 'static,
-{
-    let name = model.name().to_string();
-    let copy = TraceCopy::default();
-    let published = copy.clone();
-    stoppable(
-        py,
-        progress,
-        move |watch, stop| {
-            let mut observer = published.watching(progress::Stoppable { inner: watch, stop });
-            trace(&model, &mut observer)
-        },
-        || copy.stopped_curve(&name, stability_checked),
-    )
+/// An outcome of another kind than the analysis gives (a bug).
+fn mismatch(analysis: &Analysis) -> PyErr {
+    pyo3::exceptions::PyRuntimeError::new_err(format!(
+        "internal error: the {} gave a result of another kind",
+        analysis.noun()
+    ))
 }
 
 /// A model: built in, read from a model file, or from text.
@@ -413,7 +325,10 @@ impl NativeModel {
         set: Vec<(String, f64)>,
     ) -> PyResult<String> {
         let m = self.configured(&set)?;
-        let rec = interruptible(py, move || m.solve(omega, &SolveSettings { harmonics }))?;
+        let analysis = Analysis::Solve { omega, settings: SolveSettings { harmonics } };
+        let Outcome::Solved(rec) = whole(py, &m, &analysis)? else {
+            return Err(mismatch(&analysis));
+        };
         Ok(json_text(&report::solve_json(&rec)))
     }
 
@@ -431,13 +346,11 @@ impl NativeModel {
         progress: Option<Py<PyAny>>,
     ) -> PyResult<SweepOut<'py>> {
         let m = self.configured(&set)?;
-        let s = sweep_settings(harmonics, settings)?;
-        // The engine checks again inside; this run of its checks names the keywords.
-        engine::sweep_options(&PY_NAMES, omega_from, omega_to, &s).map_err(py_err)?;
-        let checked = s.checks_stability();
-        let (curve, stopped_by) = traced(py, m, checked, progress, move |m, watch| {
-            m.sweep(omega_from, omega_to, &s, watch)
-        })?;
+        let settings = sweep_settings(harmonics, settings)?;
+        let analysis = Analysis::Sweep { from: omega_from, to: omega_to, settings };
+        let (Outcome::Curve(curve), stopped_by) = run(py, &m, &analysis, progress)? else {
+            return Err(mismatch(&analysis));
+        };
         sweep_out(py, &curve, stopped_by)
     }
 
@@ -457,13 +370,13 @@ impl NativeModel {
         progress: Option<Py<PyAny>>,
     ) -> PyResult<SweepOut<'py>> {
         let m = self.configured(&set)?;
-        let s = sweep_settings(harmonics, settings)?;
-        engine::sweep_param_options(&PY_NAMES, omega, &s).map_err(py_err)?;
-        let (checked, param) = (s.checks_stability(), param.to_string());
-        let (curve, stopped_by) = traced(py, m, checked, progress, move |m, watch| {
-            let r = ParamRange { param: &param, from: value_from, to: value_to, omega };
-            m.sweep_param(&r, &s, watch)
-        })?;
+        let settings = sweep_settings(harmonics, settings)?;
+        let param = param.to_string();
+        let analysis =
+            Analysis::SweepParam { param, from: value_from, to: value_to, omega, settings };
+        let (Outcome::Curve(curve), stopped_by) = run(py, &m, &analysis, progress)? else {
+            return Err(mismatch(&analysis));
+        };
         sweep_out(py, &curve, stopped_by)
     }
 
@@ -484,8 +397,11 @@ impl NativeModel {
             None => defaults.scheme,
             Some(s) => keyword(s, "scheme")?,
         };
-        let s = SimSettings { dt, periods: periods.unwrap_or(defaults.periods), scheme };
-        let rec = interruptible(py, move || m.simulate(omega, &s))?;
+        let settings = SimSettings { dt, periods: periods.unwrap_or(defaults.periods), scheme };
+        let analysis = Analysis::Simulate { omega, settings };
+        let Outcome::Simulated(rec) = whole(py, &m, &analysis)? else {
+            return Err(mismatch(&analysis));
+        };
         Ok(json_text(&report::simulate_json(&rec)))
     }
 
@@ -504,16 +420,10 @@ impl NativeModel {
         progress: Option<Py<PyAny>>,
     ) -> PyResult<(String, Option<Py<PyAny>>)> {
         let m = self.configured(&set)?;
-        let s = BackboneSettings { mode, output, to, harmonics };
-        let (b, stopped_by) = watched(
-            py,
-            progress,
-            move |obs| m.backbone(&s, obs),
-            |b| {
-                let size = b.points.last().and_then(|p| p.outputs.get(b.output));
-                (b.points.len(), size.map_or(f64::NAN, |o| o.max_abs))
-            },
-        )?;
+        let analysis = Analysis::Backbone(BackboneSettings { mode, output, to, harmonics });
+        let (Outcome::Backbone(b), stopped_by) = run(py, &m, &analysis, progress)? else {
+            return Err(mismatch(&analysis));
+        };
         Ok((json_text(&report::backbone_json(&b)), stopped_by))
     }
 
@@ -537,28 +447,22 @@ impl NativeModel {
         progress: Option<Py<PyAny>>,
     ) -> PyResult<(String, Option<Py<PyAny>>)> {
         let m = self.configured(&set)?;
-        let s = sweep_settings(harmonics, settings)?;
-        engine::fold_options(&PY_NAMES, (omega_from, omega_to), &s).map_err(py_err)?;
+        let settings = sweep_settings(harmonics, settings)?;
         let boundary: Boundary = match boundary {
             None => Boundary::default(),
             Some(b) => keyword(b, "boundary")?,
         };
-        let param = param.to_string();
-        let (f, stopped_by) = watched(
-            py,
-            progress,
-            move |obs| {
-                let omega = (omega_from, omega_to);
-                let r =
-                    FoldRange { param: &param, from: value_from, to: value_to, omega, boundary };
-                m.fold_curves(&r, &s, obs)
-            },
-            |f: &FoldCurves| {
-                let points = f.curves.iter().map(|c| c.points.len()).sum();
-                let value = f.curves.iter().rev().find_map(|c| c.points.last()).map(|p| p.value);
-                (points, value.unwrap_or(f64::NAN))
-            },
-        )?;
+        let analysis = Analysis::Folds {
+            param: param.to_string(),
+            from: value_from,
+            to: value_to,
+            omega: (omega_from, omega_to),
+            boundary,
+            settings,
+        };
+        let (Outcome::Folds(f), stopped_by) = run(py, &m, &analysis, progress)? else {
+            return Err(mismatch(&analysis));
+        };
         Ok((json_text(&report::folds_json(&f)), stopped_by))
     }
 
@@ -571,7 +475,10 @@ impl NativeModel {
         set: Vec<(String, f64)>,
     ) -> PyResult<String> {
         let m = self.configured(&set)?;
-        let c = interruptible(py, move || m.cycle(omega, harmonics))?;
+        let analysis = Analysis::Cycle { omega, harmonics };
+        let Outcome::Cycle(c) = whole(py, &m, &analysis)? else {
+            return Err(mismatch(&analysis));
+        };
         Ok(json_text(&report::cycle_json(&c)))
     }
 
@@ -599,12 +506,10 @@ impl NativeModel {
             harmonics,
             ..Default::default()
         };
-        let (f, stopped_by) = watched(
-            py,
-            progress,
-            move |obs| m.cycles(&opts, obs),
-            |f| (f.points.len(), f.points.last().map_or(f64::NAN, |p| p.value)),
-        )?;
+        let analysis = Analysis::Cycles(opts);
+        let (Outcome::Cycles(f), stopped_by) = run(py, &m, &analysis, progress)? else {
+            return Err(mismatch(&analysis));
+        };
         Ok((json_text(&report::cycles_json(&f)), stopped_by))
     }
 }

@@ -2,20 +2,20 @@
 
 use super::args::{Command, CurveArgs};
 use super::Failure;
-use crate::backbone::{Backbone, BackboneEvent, CycleFamily, End, FamilyEvent, FamilyOptions};
-use crate::bifurcation::{FoldCurves, FoldEvent};
-use crate::continuation::{Control, Observer};
-use crate::engine::detach::{self, Detached, Latest, TraceCopy};
+use crate::backbone::{Backbone, CycleFamily, End, FamilyOptions};
+use crate::bifurcation::FoldCurves;
+use crate::engine::analysis::{Analysis, Outcome};
+use crate::engine::detach::{self, Ran};
 use crate::engine::progress;
 use crate::engine::registry::{NamedModel, Registry};
-use crate::engine::{BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings};
+use crate::engine::{ArgNames, BackboneSettings, SimSettings, SolveSettings};
 use crate::error::Error;
 use crate::report::{self, Figure, FreqUnit, Panel, Series};
 use crate::results::Curve;
 use crate::study;
 use std::io::Write;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
@@ -23,10 +23,11 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
         Command::Models { name } => models(reg, name.as_deref(), out),
         Command::Solve { name, omega, harmonics, set, json } => {
             let model = configured(reg, &name, &set)?;
-            let pb = progress::spinner(&format!("solving {name} at Ω = {omega} rad/s"));
-            let rec = model.solve(omega, &SolveSettings { harmonics }).map_err(Failure::from_error);
-            pb.finish_and_clear();
-            let rec = rec?;
+            let analysis = Analysis::Solve { omega, settings: SolveSettings { harmonics } };
+            let what = format!("solving {name} at Ω = {omega} rad/s");
+            let Outcome::Solved(rec) = computed(&model, &analysis, &what)?.0 else {
+                return Err(mismatch(&analysis));
+            };
             match json.as_deref() {
                 Some(target) => emit_json(&report::solve_json(&rec), target, out)?,
                 None => {
@@ -77,12 +78,13 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 )));
             }
             let model = configured(reg, &name, &args.set)?;
-            let pb = progress::spinner(&format!("sweeping {name} from {from} to {to} rad/s"));
+            let what = format!("sweeping {name} from {from} to {to} rad/s");
             let settings = args.cont.settings(args.harmonics);
             if period == 2 {
-                let both = model.sweep_period_two(from, to, &settings);
-                pb.finish_and_clear();
-                let both = both.map_err(Failure::from_error)?;
+                let analysis = Analysis::PeriodTwo { from, to, settings };
+                let Outcome::PeriodTwo(both) = computed(&model, &analysis, &what)?.0 else {
+                    return Err(mismatch(&analysis));
+                };
                 let title = format!(
                     "{name}: period-1 curve (N = {}) and period-2 branch (N = {} harmonics of Ω/2)",
                     both.period_one.harmonics, both.period_two.harmonics
@@ -92,9 +94,10 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 return write_curve(&both.period_two, &l2, &title, &args, parent, &[], out);
             }
             if break_symmetry {
-                let both = model.sweep_break_symmetry(from, to, &settings);
-                pb.finish_and_clear();
-                let both = both.map_err(Failure::from_error)?;
+                let analysis = Analysis::BreakSymmetry { from, to, settings };
+                let Outcome::BrokenSymmetry(both) = computed(&model, &analysis, &what)?.0 else {
+                    return Err(mismatch(&analysis));
+                };
                 let title = format!(
                     "{name}: symmetric curve and the branch that breaks its symmetry, N = {}",
                     both.broken.harmonics
@@ -103,13 +106,10 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 let parent = Some((l1.as_str(), &both.symmetric, Branch::Asymmetric));
                 return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
             }
-            let stop = interrupt_flag();
-            let (m, s) = (model.clone(), settings.clone());
-            let curve = traced(&stop, &pb, &name, settings.checks_stability(), move |obs| {
-                m.sweep(from, to, &s, obs)
-            });
-            pb.finish_and_clear();
-            let curve = curve?;
+            let analysis = Analysis::Sweep { from, to, settings };
+            let (Outcome::Curve(curve), stopped) = computed(&model, &analysis, &what)? else {
+                return Err(mismatch(&analysis));
+            };
             let title = format!("{name}: amplitude–frequency curve, N = {}", curve.harmonics);
             let (overlays, warnings) = if backbone {
                 backbone_overlays(&model, &curve, (from, to))
@@ -122,56 +122,37 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                     w(out, format_args!("warning: {warning}\n"))?;
                 }
             }
-            interrupted(&stop, &curve)
+            interrupted(stopped, &curve)
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
             distinct_outputs(&args)?;
             let model = configured(reg, &name, &args.set)?;
-            let pb = progress::spinner(&format!(
-                "sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s"
-            ));
+            let what =
+                format!("sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s");
             let settings = args.cont.settings(args.harmonics);
-            let stop = interrupt_flag();
-            let (m, s, p) = (model.clone(), settings.clone(), param.clone());
-            let curve = traced(&stop, &pb, &name, settings.checks_stability(), move |obs| {
-                m.sweep_param(&ParamRange { param: &p, from, to, omega }, &s, obs)
-            });
-            pb.finish_and_clear();
-            let curve = curve?;
+            let analysis = Analysis::SweepParam { param: param.clone(), from, to, omega, settings };
+            let (Outcome::Curve(curve), stopped) = computed(&model, &analysis, &what)? else {
+                return Err(mismatch(&analysis));
+            };
             let title = format!(
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
             write_curve(&curve, &name, &title, &args, None, &[], out)?;
-            interrupted(&stop, &curve)
+            interrupted(stopped, &curve)
         }
         Command::Folds { name, param, from, to, omega_from, omega_to, boundary, curve: args } => {
             distinct_outputs(&args)?;
             let model = configured(reg, &name, &args.set)?;
-            let pb = progress::spinner(&format!(
-                "fold curves of {name} for {param} from {from} to {to}"
-            ));
+            let what = format!("fold curves of {name} for {param} from {from} to {to}");
             let settings = args.cont.settings(args.harmonics);
-            let stop = interrupt_flag();
-            let label = name.clone();
-            let mut res = watched(
-                &stop,
-                &pb,
-                move |e: &FoldEvent, f: &FoldCurves| progress::fold_message(&label, e, f),
-                move |obs| {
-                    let omega = (omega_from, omega_to);
-                    let range = FoldRange { param: &param, from, to, omega, boundary };
-                    model.fold_curves(&range, &settings, obs)
-                },
-                "the first fold",
-            );
-            pb.finish_and_clear();
-            if let Ok(f) = &mut res {
-                f.model = name;
-            }
-            let res = res?;
+            let omega = (omega_from, omega_to);
+            let analysis = Analysis::Folds { param, from, to, omega, boundary, settings };
+            let (Outcome::Folds(res), stopped) = computed(&model, &analysis, &what)? else {
+                return Err(mismatch(&analysis));
+            };
             write_folds(&res, &args, out)?;
-            if stop.load(Ordering::Relaxed) {
+            if stopped {
                 let message = match res.curves.len() {
                     0 => "interrupted before the first fold curve: what the sweeps at the ends \
                           of the range found is written"
@@ -188,47 +169,33 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
         Command::Backbone { name, to, mode, output, harmonics, set, csv, json, plot } => {
             distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
             let model = configured(reg, &name, &set)?;
-            let pb = progress::spinner(&format!("backbone of {name}, mode {mode}, to {to}"));
-            let s = BackboneSettings { mode, output, to, harmonics };
-            let label = name.clone();
-            let res = watched(
-                &interrupt_flag(),
-                &pb,
-                move |_: &BackboneEvent, b: &Backbone| progress::backbone_message(&label, b),
-                move |obs| model.backbone(&s, obs),
-                "the first point of the backbone",
-            );
-            pb.finish_and_clear();
-            let mut b = res?;
-            b.model = name;
+            let what = format!("backbone of {name}, mode {mode}, to {to}");
+            let analysis = Analysis::Backbone(BackboneSettings { mode, output, to, harmonics });
+            let Outcome::Backbone(b) = computed(&model, &analysis, &what)?.0 else {
+                return Err(mismatch(&analysis));
+            };
             write_backbone(&b, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
         }
         Command::Cycle { name, omega, harmonics, set, param, from, to, json, csv, plot } => {
             let model = configured(reg, &name, &set)?;
             if let (Some(param), Some(from), Some(to)) = (param, from, to) {
                 distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
-                let pb = progress::spinner(&format!(
+                let what = format!(
                     "limit cycles of {name} near ω = {omega} for {param} from {from} to {to}"
-                ));
+                );
                 let opts =
                     FamilyOptions { param, from, to, omega, harmonics, ..Default::default() };
-                let label = name.clone();
-                let res = watched(
-                    &interrupt_flag(),
-                    &pb,
-                    move |_: &FamilyEvent, f: &CycleFamily| progress::family_message(&label, f),
-                    move |obs| model.cycles(&opts, obs),
-                    "the first limit cycle",
-                );
-                pb.finish_and_clear();
-                let mut f = res?;
-                f.model = name;
+                let analysis = Analysis::Cycles(opts);
+                let Outcome::Cycles(f) = computed(&model, &analysis, &what)?.0 else {
+                    return Err(mismatch(&analysis));
+                };
                 return write_cycles(&f, csv.as_deref(), json.as_deref(), plot.as_deref(), out);
             }
-            let pb = progress::spinner(&format!("limit cycle of {name} near ω = {omega}"));
-            let res = model.cycle(omega, harmonics).map_err(Failure::from_error);
-            pb.finish_and_clear();
-            let c = res?;
+            let what = format!("limit cycle of {name} near ω = {omega}");
+            let analysis = Analysis::Cycle { omega, harmonics };
+            let Outcome::Cycle(c) = computed(&model, &analysis, &what)?.0 else {
+                return Err(mismatch(&analysis));
+            };
             match json.as_deref() {
                 Some(target) => emit_json(&report::cycle_json(&c), target, out),
                 None => w(out, format_args!(
@@ -243,12 +210,11 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
             let model = configured(reg, &name, &set)?;
             let settings = SimSettings { dt, periods, scheme };
-            let pb = progress::spinner(&format!(
-                "integrating {name} at Ω = {omega} rad/s ({periods} periods)"
-            ));
-            let rec = model.simulate(omega, &settings).map_err(Failure::from_error);
-            pb.finish_and_clear();
-            let rec = rec?;
+            let what = format!("integrating {name} at Ω = {omega} rad/s ({periods} periods)");
+            let analysis = Analysis::Simulate { omega, settings };
+            let Outcome::Simulated(rec) = computed(&model, &analysis, &what)?.0 else {
+                return Err(mismatch(&analysis));
+            };
             match json.as_deref() {
                 Some(target) => emit_json(&report::simulate_json(&rec), target, out)?,
                 None => {
@@ -500,7 +466,11 @@ fn backbone_overlays(
     range: (f64, f64),
 ) -> (Vec<report::Overlay>, Vec<String>) {
     let tops = crate::engine::largest_amplitudes([curve], curve.output_names.len());
-    let found = model.sweep_backbones(range, &tops, curve.harmonics);
+    let analysis = Analysis::Backbones { range, tops, harmonics: curve.harmonics };
+    let found = match model.run(&analysis, &ArgNames::CLI, &mut ()) {
+        Ok(Outcome::Backbones(found)) => found,
+        _ => Vec::new(),
+    };
     let (overlays, mut warnings) = crate::engine::backbone_overlays(&found, &curve.output_names);
     if found.is_empty() {
         warnings.insert(
@@ -770,8 +740,8 @@ fn run(
 
 /// After a sweep whose files are written: exit [`super::EXIT_INTERRUPTED`] if a
 /// signal stopped it (its points so far are what was written).
-fn interrupted(stop: &std::sync::atomic::AtomicBool, curve: &Curve) -> Result<(), Failure> {
-    if !stop.load(std::sync::atomic::Ordering::Relaxed) {
+fn interrupted(stopped: bool, curve: &Curve) -> Result<(), Failure> {
+    if !stopped {
         return Ok(());
     }
     Err(Failure {
@@ -792,75 +762,46 @@ fn stopped(points: usize) -> Failure {
     }
 }
 
-/// Run an analysis on a thread of its own ([`detach`]), its progress shown by
-/// `message`, stopped by `stop`: its result, or, when the stop is not answered
-/// within [`detach::GRACE`], what it had traced at its last event (`first`: what a
-/// stop before any event missed).
-fn watched<E, T, F>(
-    stop: &Arc<AtomicBool>,
-    pb: &indicatif::ProgressBar,
-    message: impl Fn(&E, &T) -> String + Send + 'static,
-    analysis: F,
-    first: &str,
-) -> Result<T, Failure>
-where
-    E: 'static,
-    T: Clone + Send + 'static,
-    F: FnOnce(&mut dyn Observer<E, T>) -> crate::Result<T> + Send + 'static,
-{
-    let latest = Latest::default();
-    let work = {
-        let (latest, stop, pb) = (latest.clone(), Arc::clone(stop), pb.clone());
-        move || {
-            let mut show = |e: &E, t: &T| {
-                if stop.load(Ordering::Relaxed) {
-                    return Control::Stop;
-                }
-                pb.set_message(message(e, t));
-                Control::Continue
-            };
-            analysis(&mut latest.watching(&mut show))
-        }
-    };
-    match detach::run(stop, work) {
-        Detached::Returned(res) => res.map_err(Failure::from_error),
-        Detached::Abandoned => latest.take().ok_or_else(|| Failure {
+/// Run `analysis` on `model` on a thread of its own ([`detach::run_analysis`]), a
+/// spinner showing `what` and then its progress, stopped by SIGINT or SIGTERM: its
+/// outcome and whether a signal stopped it. When the stop is not answered within
+/// [`detach::GRACE`] (one point of a large problem can take minutes), the outcome is
+/// what it had traced at its last event.
+fn computed(
+    model: &NamedModel,
+    analysis: &Analysis,
+    what: &str,
+) -> Result<(Outcome, bool), Failure> {
+    let pb = progress::spinner(what);
+    let stop = interrupt_flag();
+    let flag = Arc::clone(&stop);
+    let shown = progress::shown(pb.clone(), model.name());
+    let ran = detach::run_analysis(
+        model,
+        analysis,
+        ArgNames::CLI,
+        move || flag.load(Ordering::Relaxed),
+        shown,
+    );
+    pb.finish_and_clear();
+    let stopped = stop.load(Ordering::Relaxed);
+    match ran {
+        Ran::Returned(r, _) => Ok((r.map_err(Failure::from_error)?, stopped)),
+        Ran::Abandoned(Some(outcome)) => Ok((outcome, true)),
+        Ran::Abandoned(None) => Err(Failure {
             code: super::EXIT_INTERRUPTED,
-            message: format!("interrupted before {first}: nothing written"),
+            message: format!("interrupted before {}: nothing written", analysis.first()),
         }),
-        Detached::Panicked(why) => Err(Failure::failed(why)),
+        Ran::Panicked(why) => Err(Failure::failed(why)),
     }
 }
 
-/// Trace a curve on a thread of its own ([`detach`]), stopped by `stop`: the curve,
-/// or, when the stop is not answered within [`detach::GRACE`] (one point of a large
-/// problem can take minutes), the curve as far as it came.
-fn traced<F>(
-    stop: &Arc<AtomicBool>,
-    pb: &indicatif::ProgressBar,
-    name: &str,
-    stability_checked: bool,
-    trace: F,
-) -> Result<Curve, Failure>
-where
-    F: FnOnce(&mut dyn Observer) -> crate::Result<Curve> + Send + 'static,
-{
-    let copy = TraceCopy::default();
-    let work = {
-        let (copy, stop, pb, name) = (copy.clone(), Arc::clone(stop), pb.clone(), name.to_string());
-        move || {
-            let inner = progress::CurveProgress::new(pb, &name);
-            trace(&mut copy.watching(progress::Stoppable { inner, stop: &stop }))
-        }
-    };
-    match detach::run(stop, work) {
-        Detached::Returned(curve) => curve.map_err(Failure::from_error),
-        Detached::Abandoned => copy.stopped_curve(name, stability_checked).ok_or_else(|| Failure {
-            code: super::EXIT_INTERRUPTED,
-            message: "interrupted before the first point: nothing written".into(),
-        }),
-        Detached::Panicked(why) => Err(Failure::failed(why)),
-    }
+/// An outcome of another kind than the analysis gives (a bug).
+fn mismatch(analysis: &Analysis) -> Failure {
+    Failure::failed(format!(
+        "internal error: the {} gave a result of another kind",
+        analysis.noun()
+    ))
 }
 
 /// A flag the first SIGINT or SIGTERM sets (the study or sweep then stops and writes

@@ -7,8 +7,13 @@
 //! [`GRACE`], the caller goes on without it — writing what the work published so
 //! far — and the process exits with the thread abandoned mid-step.
 
-use crate::continuation::{Event, Observer, Trace};
-use crate::results::Curve;
+use super::analysis::{Analysis, Outcome, Progress, Watch};
+use super::registry::NamedModel;
+use super::ArgNames;
+use crate::backbone::{Backbone, CycleFamily};
+use crate::bifurcation::FoldCurves;
+use crate::continuation::{Control, Trace};
+use crate::error::Result;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::{Arc, Mutex};
@@ -87,78 +92,113 @@ where
     }
 }
 
-/// A running continuation's trace as far as it has come, for the thread that may have
-/// to go on without it: updated at every event by [`TraceCopy::watching`], at the
-/// cost of what the event added ([`Trace::update`]).
+/// What a running analysis has traced, kept at every event for the thread that may
+/// have to go on without it ([`Partial::watching`]). A curve's trace is brought up to
+/// date at the cost of what the event added ([`Trace::update`]); fold curves, a
+/// backbone or a family of cycles are cloned whole (they take milliseconds or more
+/// per point, and a clone of their points takes microseconds).
 #[derive(Clone, Default)]
-pub struct TraceCopy(Arc<Mutex<Option<Trace>>>);
+pub struct Partial(Arc<Mutex<Option<Kept>>>);
 
-impl TraceCopy {
-    /// Bring the copy up to date with `trace`.
-    pub fn publish(&self, trace: &Trace) {
-        let Ok(mut copy) = self.0.lock() else { return };
-        match &mut *copy {
-            Some(c) => trace.update(c),
-            None => *copy = Some(trace.clone()),
+enum Kept {
+    Trace(Box<Trace>),
+    Folds(Box<FoldCurves>),
+    Backbone(Box<Backbone>),
+    Cycles(Box<CycleFamily>),
+}
+
+impl Partial {
+    /// Keep what `progress` shows.
+    pub fn publish(&self, progress: &Progress<'_>) {
+        let Ok(mut kept) = self.0.lock() else { return };
+        match (progress, &mut *kept) {
+            (Progress::Curve(_, t), Some(Kept::Trace(c))) => t.update(c),
+            (Progress::Curve(_, t), k) => *k = Some(Kept::Trace(Box::new((*t).clone()))),
+            (Progress::Folds(_, f), k) => *k = Some(Kept::Folds(Box::new((*f).clone()))),
+            (Progress::Backbone(_, b), k) => *k = Some(Kept::Backbone(Box::new((*b).clone()))),
+            (Progress::Cycles(_, f), k) => *k = Some(Kept::Cycles(Box::new((*f).clone()))),
         }
     }
 
-    /// The curve as far as the copy goes (`None` before the first event), its open
-    /// segment ended "stopped" ([`Trace::into_stopped_curve`]).
-    pub fn stopped_curve(&self, model: &str, stability_checked: bool) -> Option<Curve> {
-        let trace = self.0.lock().ok()?.take()?;
-        Some(trace.into_stopped_curve(model, stability_checked))
+    /// What was kept (`None` before the first event), as the outcome of `analysis` on
+    /// the model called `model`: a curve's open segment ended "stopped"
+    /// ([`Trace::into_stopped_curve`]).
+    pub fn outcome(&self, model: &str, analysis: &Analysis) -> Option<Outcome> {
+        let kept = self.0.lock().ok()?.take()?;
+        let mut outcome = match kept {
+            Kept::Trace(t) => {
+                Outcome::Curve(t.into_stopped_curve(model, analysis.checks_stability()))
+            }
+            Kept::Folds(f) => Outcome::Folds(*f),
+            Kept::Backbone(b) => Outcome::Backbone(*b),
+            Kept::Cycles(f) => Outcome::Cycles(*f),
+        };
+        outcome.set_model(model);
+        Some(outcome)
     }
 
-    /// An observer that publishes every event's trace here, then asks `inner`.
-    pub fn watching<'a, O: Observer + 'a>(&'a self, mut inner: O) -> impl Observer + 'a {
-        move |event: &Event, trace: &Trace| {
-            self.publish(trace);
-            inner.observe(event, trace)
+    /// A watcher that keeps every event's progress here, then asks `inner`.
+    pub fn watching<'a>(&'a self, inner: &'a mut dyn Watch) -> impl Watch + 'a {
+        move |progress: &Progress<'_>| {
+            self.publish(progress);
+            inner.watch(progress)
         }
     }
 }
 
-/// What an analysis published last (fold curves, a backbone, a family of cycles),
-/// for the thread that may have to go on without it: the whole of it, cloned at
-/// every event by [`Latest::watching`] (these analyses take milliseconds or more per
-/// point, and a clone of their points takes microseconds).
-pub struct Latest<T>(Arc<Mutex<Option<T>>>);
-
-impl<T> Clone for Latest<T> {
-    fn clone(&self) -> Self {
-        Latest(Arc::clone(&self.0))
-    }
+/// How an analysis run by [`run_analysis`] ended.
+pub enum Ran<W> {
+    /// It returned: its result, and the watcher (with whatever it noted).
+    Returned(Result<Outcome>, W),
+    /// It was stopped and did not return within [`GRACE`]: what it had traced at its
+    /// last event (`None`: it was stopped before its first).
+    Abandoned(Option<Outcome>),
+    /// It panicked (a bug: the message is the panic's).
+    Panicked(String),
 }
 
-impl<T> Default for Latest<T> {
-    fn default() -> Self {
-        Latest(Arc::default())
-    }
-}
-
-impl<T: Clone> Latest<T> {
-    /// Keep a copy of `value`.
-    pub fn publish(&self, value: &T) {
-        if let Ok(mut copy) = self.0.lock() {
-            *copy = Some(value.clone());
+/// Run `analysis` on `model` on a thread of its own ([`run_polled`]), its events shown
+/// to `watch`; once `stopped` says so, the analysis is asked to stop at its next
+/// event and, if it does not return within [`GRACE`], abandoned with what it had
+/// traced. The command line, a study and Python all stop an analysis this way.
+pub fn run_analysis<W: Watch + Send + 'static>(
+    model: &NamedModel,
+    analysis: &Analysis,
+    names: ArgNames,
+    mut stopped: impl FnMut() -> bool,
+    mut watch: W,
+) -> Ran<W> {
+    let partial = Partial::default();
+    let stop = Arc::new(AtomicBool::new(false));
+    let work = {
+        let (model, analysis) = (model.clone(), analysis.clone());
+        let (partial, stop) = (partial.clone(), Arc::clone(&stop));
+        move || {
+            let mut stoppable = |p: &Progress<'_>| {
+                if stop.load(Ordering::Relaxed) {
+                    Control::Stop
+                } else {
+                    watch.watch(p)
+                }
+            };
+            let r = model.run(&analysis, &names, &mut partial.watching(&mut stoppable));
+            (r, watch)
         }
-    }
-
-    /// The last copy (`None` before the first event).
-    pub fn take(&self) -> Option<T> {
-        self.0.lock().ok()?.take()
-    }
-
-    /// An observer that publishes what is traced at every event, then asks `inner`.
-    pub fn watching<'a, E, O: Observer<E, T> + 'a>(
-        &'a self,
-        mut inner: O,
-    ) -> impl Observer<E, T> + 'a {
-        move |event: &E, traced: &T| {
-            self.publish(traced);
-            inner.observe(event, traced)
-        }
+    };
+    let ran = run_polled(
+        || {
+            let s = stopped();
+            if s {
+                stop.store(true, Ordering::Relaxed);
+            }
+            s
+        },
+        work,
+    );
+    match ran {
+        Detached::Returned((r, watch)) => Ran::Returned(r, watch),
+        Detached::Abandoned => Ran::Abandoned(partial.outcome(model.name(), analysis)),
+        Detached::Panicked(why) => Ran::Panicked(why),
     }
 }
 

@@ -1,14 +1,13 @@
-//! The one place where the command line and studies call the solvers (solve, sweep,
-//! simulate) for a concrete model type: settings as a user writes them in, records
-//! out. Below it, models registered by name ([`registry`]), the settings
-//! ([`settings`]), the progress display ([`progress`]) and work a signal cuts short
-//! ([`detach`]); above it, [`crate::study`]
-//! and the command line. Nothing here imports either.
+//! The one place where the command line, studies and Python call the solvers: an
+//! [`analysis::Analysis`] (what to compute, as a user writes it) run against a model
+//! registered by name ([`registry`]) gives an [`analysis::Outcome`]. Beside them, the
+//! continuation settings ([`settings`]), the progress display ([`progress`]) and work
+//! a signal cuts short ([`detach`]); above, [`crate::study`] and the command line.
+//! Nothing here imports either.
 
 use crate::backbone::{Backbone, BackboneEvent, BackboneOptions, End};
 use crate::balance::Balance;
-use crate::bifurcation::{self, Boundary, FoldCurveOptions, FoldCurves, FoldEvent};
-use crate::continuation::{self, Observer, SweepOptions};
+use crate::continuation::Observer;
 use crate::corrector::{self, SolveOptions};
 use crate::error::{Error, Result};
 use crate::model::{DynModel, Model};
@@ -17,6 +16,7 @@ use crate::results::{Curve, SimOutput, SimRecord, SolveRecord, Stability, Unknow
 use crate::stability::{Hill, StabilityOptions};
 use crate::timedomain::{self, CompareRow, Scheme, SimOptions};
 
+pub mod analysis;
 pub mod detach;
 pub mod progress;
 pub mod registry;
@@ -111,52 +111,10 @@ impl ArgNames {
     };
 }
 
-/// The checks of a frequency sweep ([`sweep`], [`sweep_period_two`],
-/// [`sweep_break_symmetry`]) with the caller's names, and the solver's options.
-pub fn sweep_options(
-    names: &ArgNames,
-    from: f64,
-    to: f64,
-    s: &SweepSettings,
-) -> Result<SweepOptions> {
-    check_omega(names.from, from)?;
-    check_omega(names.to, to)?;
-    s.options().map_err(|e| e.named(names.setting))
-}
-
-/// The checks of a parameter sweep at `omega` ([`sweep_param`]) with the caller's
-/// names, and the solver's options.
-pub fn sweep_param_options(
-    names: &ArgNames,
-    omega: f64,
-    s: &SweepSettings,
-) -> Result<SweepOptions> {
-    check_omega(names.omega, omega)?;
-    s.options().map_err(|e| e.named(names.setting))
-}
-
-/// The checks of a fold analysis over the frequency range `omega`
-/// ([`fold_curves`]) with the caller's names, and the solver's options.
-pub fn fold_options(
-    names: &ArgNames,
-    omega: (f64, f64),
-    s: &SweepSettings,
-) -> Result<SweepOptions> {
-    check_omega(names.omega_from, omega.0)?;
-    check_omega(names.omega_to, omega.1)?;
-    s.options().map_err(|e| e.named(names.setting))
-}
-
-/// Solve at one frequency from the linearized guess. A Newton failure is not an error
-/// here: the record carries `converged: false` and the last iterate.
-pub fn solve(
-    name: &str,
-    model: &dyn DynModel,
-    omega: f64,
-    s: &SolveSettings,
-) -> Result<SolveRecord> {
-    check_omega("omega", omega)?;
-    crate::fourier::check_harmonics(s.harmonics)?;
+/// Solve at one frequency from the linearized guess (checked by
+/// [`analysis::Analysis::check`]). A Newton failure is not an error here: the record
+/// carries `converged: false` and the last iterate.
+fn solve(name: &str, model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
     let opts = SolveOptions { harmonics: s.harmonics, ..SolveOptions::default() };
     let mut failure = None;
     let (coeffs, converged, iterations, residual_norm) =
@@ -211,118 +169,6 @@ fn stability(
     }
 }
 
-/// Trace the amplitude–frequency curve from `from` to `to` (rad/s), watched by
-/// `observer` (the range itself is checked by the continuation).
-pub fn sweep(
-    name: &str,
-    model: &dyn DynModel,
-    from: f64,
-    to: f64,
-    s: &SweepSettings,
-    observer: &mut dyn Observer,
-) -> Result<Curve> {
-    let opts = sweep_options(&ArgNames::CLI, from, to, s)?;
-    let mut curve = continuation::sweep_with(model, from, to, &opts, observer)?;
-    curve.model = name.to_string();
-    Ok(curve)
-}
-
-/// The period-2 branch for Ω from `from` to `to`, switched onto at the first period
-/// doubling of the period-1 curve ([`bifurcation::period_two`]); `s.harmonics` counts
-/// harmonics of Ω/2.
-pub fn sweep_period_two(
-    name: &str,
-    model: &dyn DynModel,
-    from: f64,
-    to: f64,
-    s: &SweepSettings,
-) -> Result<bifurcation::PeriodDoubled> {
-    let opts = sweep_options(&ArgNames::CLI, from, to, s)?;
-    let mut both = bifurcation::period_two(model, from, to, &opts)?;
-    both.period_one.model = name.to_string();
-    both.period_two.model = name.to_string();
-    Ok(both)
-}
-
-/// The branch that breaks the symmetry of the curve from `from` to `to`, switched
-/// onto at its first branch point ([`bifurcation::break_symmetry`]).
-pub fn sweep_break_symmetry(
-    name: &str,
-    model: &dyn DynModel,
-    from: f64,
-    to: f64,
-    s: &SweepSettings,
-) -> Result<bifurcation::SymmetryBroken> {
-    let opts = sweep_options(&ArgNames::CLI, from, to, s)?;
-    let mut both = bifurcation::break_symmetry(model, from, to, &opts)?;
-    both.symmetric.model = name.to_string();
-    both.broken.model = name.to_string();
-    Ok(both)
-}
-
-/// A parameter sweep at a fixed frequency: which parameter, over which range.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ParamRange<'a> {
-    /// Parameter name (as declared by the model).
-    pub param: &'a str,
-    /// Start value.
-    pub from: f64,
-    /// End value (> from).
-    pub to: f64,
-    /// Forcing frequency, rad/s (> 0), fixed along the curve.
-    pub omega: f64,
-}
-
-/// Trace the response at fixed frequency as a parameter goes over its range; the
-/// curve's `parameter` names it.
-pub fn sweep_param(
-    name: &str,
-    model: &dyn DynModel,
-    r: &ParamRange,
-    s: &SweepSettings,
-    observer: &mut dyn Observer,
-) -> Result<Curve> {
-    let ParamRange { param, from, to, omega } = *r;
-    let opts = sweep_param_options(&ArgNames::CLI, omega, s)?;
-    let mut curve = continuation::sweep_param_with(model, param, from, to, omega, &opts, observer)?;
-    curve.model = name.to_string();
-    Ok(curve)
-}
-
-/// A two-parameter fold analysis: which parameter, over which range, and the
-/// frequency range whose folds are continued.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FoldRange<'a> {
-    /// Parameter name (as declared by the model).
-    pub param: &'a str,
-    /// Start value.
-    pub from: f64,
-    /// End value.
-    pub to: f64,
-    /// The frequency range, rad/s.
-    pub omega: (f64, f64),
-    /// What the curves follow (folds, or period doubling).
-    pub boundary: Boundary,
-}
-
-/// The fold curves of `model` in the (Ω, parameter) plane and their cusps, watched
-/// by `observer`.
-pub fn fold_curves(
-    name: &str,
-    model: &dyn DynModel,
-    r: &FoldRange,
-    s: &SweepSettings,
-    observer: &mut dyn continuation::Observer<FoldEvent, FoldCurves>,
-) -> Result<FoldCurves> {
-    let FoldRange { param, from, to, omega, boundary } = *r;
-    let sweep = fold_options(&ArgNames::CLI, omega, s)?;
-    let index = model.param_index(param)?;
-    let opts = FoldCurveOptions { boundary, sweep, omega };
-    let mut res = bifurcation::fold_curves_with(model, index, from, to, &opts, observer)?;
-    res.model = name.to_string();
-    Ok(res)
-}
-
 /// What a backbone is asked for, by name (the command line's and a study's terms).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BackboneSettings {
@@ -338,11 +184,10 @@ pub struct BackboneSettings {
 
 /// The backbone of mode `s.mode` of `model` ([`crate::backbone`]), reporting every
 /// event to `observer`, which may stop it.
-pub fn backbone(
-    name: &str,
+fn backbone(
     model: &dyn DynModel,
     s: &BackboneSettings,
-    observer: &mut dyn continuation::Observer<BackboneEvent, Backbone>,
+    observer: &mut dyn Observer<BackboneEvent, Backbone>,
 ) -> Result<Backbone> {
     let output = match &s.output {
         Some(o) => model.output_index(o)?,
@@ -355,9 +200,7 @@ pub fn backbone(
         harmonics: s.harmonics,
         ..Default::default()
     };
-    let mut res = crate::backbone::backbone_with(model, &opts, observer)?;
-    res.model = name.to_string();
-    Ok(res)
+    crate::backbone::backbone_with(model, &opts, observer)
 }
 
 /// A backbone drawn over a sweep: of which mode, continued in which output.
@@ -375,8 +218,7 @@ pub struct SweepBackbone {
 /// The backbones that belong on a sweep's figure: for every mode whose linear
 /// natural frequency lies in `[from, to]` and every output, the backbone continued in
 /// that output up to `tops[output]` (the sweep's largest `max |x|` of it).
-pub fn sweep_backbones(
-    name: &str,
+fn sweep_backbones(
     model: &dyn DynModel,
     (from, to): (f64, f64),
     tops: &[f64],
@@ -393,10 +235,7 @@ pub fn sweep_backbones(
                 continue;
             }
             let opts = BackboneOptions { mode, output, to: top, harmonics, ..Default::default() };
-            let backbone = crate::backbone::backbone(model, &opts).map(|mut b| {
-                b.model = name.to_string();
-                b
-            });
+            let backbone = crate::backbone::backbone(model, &opts);
             out.push(SweepBackbone { mode, output, backbone });
         }
     }
@@ -404,7 +243,7 @@ pub fn sweep_backbones(
 }
 
 /// The largest finite `max |x|` of every output (in model order) over `curves`: how
-/// far a figure's backbones are continued ([`sweep_backbones`]'s `tops`).
+/// far a figure's backbones are continued ([`analysis::Analysis::Backbones`]'s `tops`).
 pub fn largest_amplitudes<'a>(
     curves: impl IntoIterator<Item = &'a Curve>,
     outputs: usize,
@@ -422,7 +261,7 @@ pub fn largest_amplitudes<'a>(
     tops
 }
 
-/// The backbones of [`sweep_backbones`] as overlays of a figure (on the panel of the
+/// The backbones of [`analysis::Analysis::Backbones`] as overlays of a figure (on the panel of the
 /// output each was continued in, its `(ω, max |x|)` points), with a warning for each
 /// that stopped short of its amplitude (drawn as far as it went) or could not start.
 /// `output_names` are the model's, in order.
@@ -460,13 +299,7 @@ pub fn backbone_overlays(
 }
 
 /// Integrate from rest and report the steady statistics of every output.
-pub fn simulate(
-    name: &str,
-    model: &dyn DynModel,
-    omega: f64,
-    s: &SimSettings,
-) -> Result<SimRecord> {
-    check_omega("omega", omega)?;
+fn simulate(name: &str, model: &dyn DynModel, omega: f64, s: &SimSettings) -> Result<SimRecord> {
     let sim = timedomain::simulate(model, omega, &s.options())?;
     Ok(SimRecord {
         model: name.to_string(),
@@ -491,7 +324,7 @@ pub fn simulate(
 /// Harmonic balance (N = `harmonics`, from the linearised guess) against time
 /// integration from rest at `omega`: the comparison of
 /// [`timedomain::compare_at`], failures of either method recorded in the row.
-pub fn compare(model: &dyn DynModel, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
+fn compare(model: &dyn DynModel, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
     let hb = SolveOptions { harmonics, ..SolveOptions::default() };
     timedomain::compare_at(model, omega, &s.options(), &hb)
 }

@@ -1,10 +1,11 @@
 //! Progress on standard error, shown only when it is a terminal: a spinner for one
-//! computation, a bar over a study's jobs, and [`CurveProgress`], the continuation
-//! observer that shows a sweep's points as they are accepted.
+//! computation, a bar over a study's jobs, and [`shown`], the watcher that shows an
+//! analysis's points as they are accepted.
 
+use super::analysis::{Progress, Watch};
 use crate::backbone::{Backbone, CycleFamily};
 use crate::bifurcation::{FoldCurves, FoldEvent};
-use crate::continuation::{Control, Event, Observer, Trace};
+use crate::continuation::Control;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::Duration;
@@ -40,58 +41,34 @@ pub fn bar(len: u64, msg: &str) -> ProgressBar {
     pb
 }
 
-/// Shows a running continuation on a spinner or bar: the label, the points accepted
-/// so far and where the curve is. It never stops the run.
-pub struct CurveProgress {
-    pb: ProgressBar,
-    label: String,
-}
-
-impl CurveProgress {
-    /// Report on `pb` (a [`spinner`], or a study's [`bar`] shared by its jobs) under `label`.
-    pub fn new(pb: ProgressBar, label: &str) -> Self {
-        CurveProgress { pb, label: label.to_string() }
+/// The progress line of an analysis under `label`: the points so far and where the
+/// last one is.
+pub fn message(label: &str, progress: &Progress<'_>) -> String {
+    match *progress {
+        Progress::Curve(_, t) => match t.points.last() {
+            Some(p) => {
+                format!("{label}: {} points, {} = {:.6}", t.points.len(), t.parameter, p.param)
+            }
+            None => label.to_string(),
+        },
+        Progress::Folds(e, f) => fold_message(label, e, f),
+        Progress::Backbone(_, b) => backbone_message(label, b),
+        Progress::Cycles(_, f) => family_message(label, f),
     }
 }
 
-impl Observer for CurveProgress {
-    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
-        if let Event::Point(i) = *event {
-            if let Some(p) = trace.points.get(i) {
-                self.pb.set_message(format!(
-                    "{}: {} points, {} = {:.6}",
-                    self.label,
-                    trace.points.len(),
-                    trace.parameter,
-                    p.param
-                ));
-            }
-        }
+/// A watcher that shows every event on `pb` (a [`spinner`], or a study's [`bar`]
+/// shared by its jobs) under `label`. It never stops the run.
+pub fn shown(pb: ProgressBar, label: &str) -> impl Watch + Send + 'static {
+    let label = label.to_string();
+    move |p: &Progress<'_>| {
+        pb.set_message(message(&label, p));
         Control::Continue
     }
 }
 
-/// An observer that asks the continuation to stop once `stop` is set (by a signal
-/// handler, say), and otherwise defers to `inner`.
-pub struct Stoppable<'a, O> {
-    /// The observer seeing every event until then.
-    pub inner: O,
-    /// The flag.
-    pub stop: &'a std::sync::atomic::AtomicBool,
-}
-
-impl<O: Observer> Observer for Stoppable<'_, O> {
-    fn observe(&mut self, event: &Event, trace: &Trace) -> Control {
-        if self.stop.load(std::sync::atomic::Ordering::Relaxed) {
-            Control::Stop
-        } else {
-            self.inner.observe(event, trace)
-        }
-    }
-}
-
 /// The progress line of a fold-curve analysis after `e`.
-pub fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
+fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
     match *e {
         FoldEvent::Swept(end, n) => format!("{label}: {n} fold(s) at the {end:?} end"),
         FoldEvent::Point { curve, index } => {
@@ -115,7 +92,7 @@ pub fn fold_message(label: &str, e: &FoldEvent, f: &FoldCurves) -> String {
 }
 
 /// A backbone's progress: points so far and the last one's frequency and amplitude.
-pub fn backbone_message(label: &str, b: &Backbone) -> String {
+fn backbone_message(label: &str, b: &Backbone) -> String {
     match b.points.last() {
         Some(p) => format!(
             "{label}: mode {} backbone, {} points, ω = {:.6}, max |{}| = {:.4e}",
@@ -130,7 +107,7 @@ pub fn backbone_message(label: &str, b: &Backbone) -> String {
 }
 
 /// A family of limit cycles' progress: cycles so far and the last one's parameter.
-pub fn family_message(label: &str, f: &CycleFamily) -> String {
+fn family_message(label: &str, f: &CycleFamily) -> String {
     match f.points.last() {
         Some(p) => format!(
             "{label}: {} limit cycles, {} = {:.6e}, ω = {:.6}",

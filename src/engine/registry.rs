@@ -2,21 +2,14 @@
 //! and [`Registry`], the models a CLI knows.
 //!
 //! Every named model holds a [`BoxedModel`] (the model type erased behind the
-//! object-safe [`DynModel`](crate::model::DynModel)), so the solvers its methods call
-//! are compiled once for all of them (not once per model type).
+//! object-safe [`DynModel`](crate::model::DynModel)), so the solvers an
+//! [`Analysis`] calls are compiled once for all of them (not once per model type).
 //!
-use super::{
-    self as engine, BackboneSettings, FoldRange, ParamRange, SimSettings, SolveSettings,
-    SweepBackbone, SweepSettings,
-};
-use crate::backbone::{Backbone, BackboneEvent, Cycle, CycleFamily, FamilyEvent, FamilyOptions};
-use crate::bifurcation::{FoldCurves, FoldEvent, PeriodDoubled, SymmetryBroken};
-use crate::continuation::Observer;
+use super::analysis::{Analysis, Outcome, Watch};
+use super::ArgNames;
 use crate::error::{Error, Result};
 use crate::model::{BoxedModel, Model, Output, ParamInfo, Text};
-use crate::results::{Curve, SimRecord, SolveRecord};
 use crate::runtime::RuntimeModel;
-use crate::timedomain::CompareRow;
 use std::path::{Path, PathBuf};
 
 /// A model under the name it was registered (or read) under, with its current
@@ -98,108 +91,19 @@ impl NamedModel {
         self.model.equations()
     }
 
-    /// Solve at one frequency.
-    pub fn solve(&self, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
-        engine::solve(&self.name, self.model.as_dyn(), omega, s)
-    }
-
-    /// Trace a frequency sweep.
-    pub fn sweep(
+    /// Run `analysis` on this model ([`Analysis::run`]): checked with the caller's
+    /// `names`, every event shown to `watch` (which may stop it), its results and
+    /// errors naming the model as registered.
+    pub fn run(
         &self,
-        from: f64,
-        to: f64,
-        s: &SweepSettings,
-        obs: &mut dyn Observer,
-    ) -> Result<Curve> {
-        let mut c = engine::sweep(&self.name, self.model.as_dyn(), from, to, s, obs)?;
-        c.model = self.name.clone();
-        Ok(c)
-    }
-
-    /// The period-2 branch, switched onto at a period doubling of the period-1 curve.
-    pub fn sweep_period_two(&self, from: f64, to: f64, s: &SweepSettings) -> Result<PeriodDoubled> {
-        engine::sweep_period_two(&self.name, self.model.as_dyn(), from, to, s)
-    }
-
-    /// The branch that breaks the curve's symmetry, switched onto at a branch point.
-    pub fn sweep_break_symmetry(
-        &self,
-        from: f64,
-        to: f64,
-        s: &SweepSettings,
-    ) -> Result<SymmetryBroken> {
-        engine::sweep_break_symmetry(&self.name, self.model.as_dyn(), from, to, s)
-    }
-
-    /// Trace the response at a fixed frequency as one parameter moves.
-    pub fn sweep_param(
-        &self,
-        r: &ParamRange,
-        s: &SweepSettings,
-        obs: &mut dyn Observer,
-    ) -> Result<Curve> {
-        engine::sweep_param(&self.name, self.model.as_dyn(), r, s, obs).map_err(|e| self.named(e))
-    }
-
-    /// The fold curves in the plane of Ω and one parameter, and their cusps.
-    pub fn fold_curves(
-        &self,
-        r: &FoldRange,
-        s: &SweepSettings,
-        obs: &mut dyn Observer<FoldEvent, FoldCurves>,
-    ) -> Result<FoldCurves> {
-        engine::fold_curves(&self.name, self.model.as_dyn(), r, s, obs).map_err(|e| self.named(e))
-    }
-
-    /// The backbone (nonlinear mode) of one mode.
-    pub fn backbone(
-        &self,
-        s: &BackboneSettings,
-        obs: &mut dyn Observer<BackboneEvent, Backbone>,
-    ) -> Result<Backbone> {
-        engine::backbone(&self.name, self.model.as_dyn(), s, obs).map_err(|e| self.named(e))
-    }
-
-    /// The backbones of the modes in `[range.0, range.1]`, each output's continued to
-    /// `tops[output]` ([`engine::sweep_backbones`]).
-    pub fn sweep_backbones(
-        &self,
-        range: (f64, f64),
-        tops: &[f64],
-        harmonics: usize,
-    ) -> Vec<SweepBackbone> {
-        engine::sweep_backbones(&self.name, self.model.as_dyn(), range, tops, harmonics)
-    }
-
-    /// The limit cycle near a frequency guess.
-    pub fn cycle(&self, omega: f64, harmonics: usize) -> Result<Cycle> {
-        let opts = crate::backbone::CycleOptions { omega, harmonics, ..Default::default() };
-        let mut c =
-            crate::backbone::cycle(self.model.as_dyn(), &opts).map_err(|e| self.named(e))?;
-        c.model = self.name.clone();
-        Ok(c)
-    }
-
-    /// The limit cycle continued in a parameter, with its Hopf point.
-    pub fn cycles(
-        &self,
-        opts: &FamilyOptions,
-        obs: &mut dyn Observer<FamilyEvent, CycleFamily>,
-    ) -> Result<CycleFamily> {
-        let mut f = crate::backbone::cycles_with(self.model.as_dyn(), opts, obs)
-            .map_err(|e| self.named(e))?;
-        f.model = self.name.clone();
-        Ok(f)
-    }
-
-    /// Integrate in time.
-    pub fn simulate(&self, omega: f64, s: &SimSettings) -> Result<SimRecord> {
-        engine::simulate(&self.name, self.model.as_dyn(), omega, s)
-    }
-
-    /// Harmonic balance against time integration at one frequency.
-    pub fn compare(&self, omega: f64, s: &SimSettings, harmonics: usize) -> CompareRow {
-        engine::compare(self.model.as_dyn(), omega, s, harmonics)
+        analysis: &Analysis,
+        names: &ArgNames,
+        watch: &mut dyn Watch,
+    ) -> Result<Outcome> {
+        let mut outcome =
+            analysis.run(self.model.as_dyn(), names, watch).map_err(|e| self.named(e))?;
+        outcome.set_model(&self.name);
+        Ok(outcome)
     }
 }
 

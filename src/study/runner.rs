@@ -5,12 +5,13 @@ use super::claims::{fmt_num, Member, TdRow};
 use super::outcome::StudyOutcome;
 use super::spec::{BackboneSpec, Study, Vary};
 use super::summary::{self, FigureResult, FoldMember};
-use crate::bifurcation::{FoldCurves, FoldEvent};
+use crate::bifurcation::FoldCurves;
 use crate::continuation::Control;
-use crate::engine::detach::{self, Detached, TraceCopy};
+use crate::engine::analysis::{Analysis, Outcome, Progress};
+use crate::engine::detach::{self, Detached, Partial};
 use crate::engine::progress;
 use crate::engine::registry::{NamedModel, Registry};
-use crate::engine::{FoldRange, SimSettings, SweepBackbone, SweepSettings};
+use crate::engine::{ArgNames, SimSettings, SweepBackbone, SweepSettings};
 use crate::error::{Error, Result};
 use crate::report::{self, Figure, FreqUnit, Panel, Series, TimeMarker};
 use crate::results::Curve;
@@ -129,11 +130,19 @@ impl Job {
     }
 }
 
-enum Done {
-    // Boxed: a curve's header outweighs the other results several times.
-    Curve(Result<Box<Curve>>),
-    Folds(Result<Box<FoldCurves>>),
-    Compare(CompareRow),
+/// How the analyses of a study name what they check: by the study file's keys (the
+/// study's own checks, with line and column, have run before any job starts).
+const STUDY_NAMES: ArgNames = ArgNames {
+    from: "frequency",
+    to: "frequency",
+    omega: "timedomain.omegas",
+    omega_from: "frequency",
+    omega_to: "frequency",
+    setting: sweep_key,
+};
+
+fn sweep_key(key: &str) -> String {
+    format!("sweep.{key}")
 }
 
 /// What the jobs of one figure produced.
@@ -381,17 +390,41 @@ impl RunLog {
 enum Slot {
     /// Not started.
     Pending,
-    /// Started; a curve's or fold analysis's copy of what it has traced so far.
-    Running(Option<Partial>),
+    /// Started (what it has traced so far is in its [`Partial`]).
+    Running,
     /// Finished, its files written: the result, seconds taken, files and notes.
-    Done(Done, f64, Box<StudyOutcome>),
+    Done(Box<Result<Outcome>>, f64, Box<StudyOutcome>),
 }
 
-/// What a running job has traced, kept up to date at every event (a curve's is in
-/// its [`TraceCopy`]).
-enum Partial {
-    Curve,
-    Folds(Box<FoldCurves>),
+/// The model a job runs on, what it runs, and how its progress is labelled.
+fn job_analysis(plans: &[FigurePlan], job: Job) -> (&NamedModel, Analysis, String) {
+    let p = &plans[job.figure()];
+    match (job, &p.kind) {
+        (Job::Value(_, k), FigureKind::Curves { .. }) => {
+            let c = &p.curves[k];
+            let (from, to) = p.range;
+            let analysis = Analysis::Sweep { from, to, settings: c.sweep.clone() };
+            (&c.model, analysis, c.model.name().to_string())
+        }
+        (Job::Value(_, k), FigureKind::Folds(fp)) => {
+            let c = &p.curves[k];
+            let analysis = Analysis::Folds {
+                param: fp.param.clone(),
+                from: fp.from,
+                to: fp.to,
+                omega: p.range,
+                boundary: fp.boundary,
+                settings: c.sweep.clone(),
+            };
+            (&c.model, analysis, format!("{}: {} curves, {}", p.id, fp.boundary, c.label))
+        }
+        (Job::Compare(_, k), _) => {
+            let td = &p.td()[k];
+            let analysis =
+                Analysis::Compare { omega: td.omega, sim: td.sim.clone(), harmonics: p.harmonics };
+            (&p.td_model, analysis, part_name(plans, job))
+        }
+    }
 }
 
 /// Every job of a run and where each stands. Workers write files only while the run
@@ -400,7 +433,7 @@ enum Partial {
 struct Jobs {
     list: Vec<Job>,
     slots: Vec<Mutex<Slot>>,
-    traces: Vec<TraceCopy>,
+    partials: Vec<Partial>,
     open: Mutex<bool>,
     dir: PathBuf,
     log: RunLog,
@@ -415,9 +448,9 @@ impl Jobs {
             list.extend((0..p.td().len()).map(|k| Job::Compare(f, k)));
         }
         let slots = list.iter().map(|_| Mutex::new(Slot::Pending)).collect();
-        let traces = list.iter().map(|_| TraceCopy::default()).collect();
+        let partials = list.iter().map(|_| Partial::default()).collect();
         let pb = progress::bar(list.len() as u64, "curves and time-domain points");
-        Jobs { list, slots, traces, open: Mutex::new(true), dir, log, pb }
+        Jobs { list, slots, partials, open: Mutex::new(true), dir, log, pb }
     }
 
     fn set(&self, i: usize, slot: Slot) {
@@ -435,84 +468,40 @@ impl Jobs {
                 return;
             }
             let job = self.list[i];
-            let kind = &plans[job.figure()].kind;
-            let partial = matches!((job, kind), (Job::Value(..), FigureKind::Curves { .. }))
-                .then_some(Partial::Curve);
-            self.set(i, Slot::Running(partial));
+            self.set(i, Slot::Running);
             let t = Instant::now();
-            let r = match (job, kind) {
-                (Job::Value(f, k), FigureKind::Curves { .. }) => {
-                    let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let progress = progress::Stoppable {
-                        inner: progress::CurveProgress::new(self.pb.clone(), c.model.name()),
-                        stop,
-                    };
-                    let mut watch = self.traces[i].watching(progress);
-                    let (lo, hi) = p.range;
-                    Done::Curve(c.model.sweep(lo, hi, &c.sweep, &mut watch).map(Box::new))
+            let (model, analysis, label) = job_analysis(plans, job);
+            let mut show = |p: &Progress<'_>| {
+                if stopped() {
+                    return Control::Stop;
                 }
-                (Job::Value(f, k), FigureKind::Folds(fp)) => {
-                    let (p, c) = (&plans[f], &plans[f].curves[k]);
-                    let boundary = fp.boundary;
-                    let range = FoldRange {
-                        param: &fp.param,
-                        from: fp.from,
-                        to: fp.to,
-                        omega: p.range,
-                        boundary,
-                    };
-                    let label = format!("{}: {boundary} curves, {}", p.id, c.label);
-                    let mut watch = |e: &FoldEvent, fc: &FoldCurves| {
-                        self.set(i, Slot::Running(Some(Partial::Folds(Box::new(fc.clone())))));
-                        if stopped() {
-                            return Control::Stop;
-                        }
-                        self.pb.set_message(progress::fold_message(&label, e, fc));
-                        Control::Continue
-                    };
-                    Done::Folds(c.model.fold_curves(&range, &c.sweep, &mut watch).map(Box::new))
-                }
-                (Job::Compare(f, k), _) => {
-                    let (p, td) = (&plans[f], &plans[f].td()[k]);
-                    Done::Compare(p.td_model.compare(td.omega, &td.sim, p.harmonics))
-                }
+                self.pb.set_message(progress::message(&label, p));
+                Control::Continue
             };
+            let r = model.run(&analysis, &STUDY_NAMES, &mut self.partials[i].watching(&mut show));
             let t = t.elapsed().as_secs_f64();
             let Ok(open) = self.open.lock() else { return };
             if !*open {
                 return; // the waiting thread has taken over: it writes from the copy
             }
             let mut written = StudyOutcome::default();
-            match &r {
-                Done::Curve(Ok(curve)) => write_curve(
-                    &self.dir,
-                    &plans[job.figure()].curves[job.index()].stem,
-                    curve,
-                    &mut written,
-                ),
-                Done::Folds(Ok(folds)) => write_folds(
-                    &self.dir,
-                    &plans[job.figure()].curves[job.index()].stem,
-                    folds,
-                    &mut written,
-                ),
-                _ => {}
+            if let Ok(o) = &r {
+                write_outcome(&self.dir, plans, job, o, &mut written);
             }
             // A part the interruption cut short is unfinished, though what it
             // computed is kept.
             let part = part_name(plans, job);
-            if stopped() && !matches!(r, Done::Compare(_)) {
+            if stopped() && !matches!(r, Ok(Outcome::Compared(_))) {
                 written.unfinished.push(format!("{part}: stopped part way (interrupted)"));
             } else {
                 let failed = match &r {
-                    Done::Curve(r) => r.is_err(),
-                    Done::Folds(r) => r.is_err(),
-                    Done::Compare(row) => row.failure.is_some(),
+                    Ok(Outcome::Compared(row)) => row.failure.is_some(),
+                    r => r.is_err(),
                 };
                 self.log.finished(if failed { format!("{part} (failed: no files)") } else { part });
             }
             self.pb.inc(1);
-            self.set(i, Slot::Done(r, t, Box::new(written)));
+            self.set(i, Slot::Done(Box::new(r), t, Box::new(written)));
         });
     }
 
@@ -545,46 +534,55 @@ impl Jobs {
                 Slot::Pending => {
                     out.unfinished.push(format!("{}: not started (interrupted)", part()))
                 }
-                Slot::Running(partial) => {
+                Slot::Running => {
                     out.unfinished.push(format!("{}: stopped part way (interrupted)", part()));
-                    let c = &plans[f].curves.get(k);
-                    match (partial, c) {
-                        (Some(Partial::Curve), Some(c)) => {
-                            let checked = c.sweep.checks_stability();
-                            if let Some(curve) =
-                                self.traces[i].stopped_curve(c.model.name(), checked)
-                            {
-                                write_curve(&self.dir, &c.stem, &curve, out);
-                                finished[f].curves[k] = Some(curve);
-                            }
-                        }
-                        (Some(Partial::Folds(folds)), Some(c)) => {
-                            write_folds(&self.dir, &c.stem, &folds, out);
-                            finished[f].folds[k] = Some(*folds);
-                        }
-                        _ => {}
+                    let (model, analysis, _) = job_analysis(plans, job);
+                    if let Some(o) = self.partials[i].outcome(model.name(), &analysis) {
+                        write_outcome(&self.dir, plans, job, &o, out);
+                        finished[f].keep(k, o);
                     }
                 }
                 Slot::Done(r, t, written) => {
                     out.append(*written);
                     finished[f].seconds += t;
-                    match r {
-                        Done::Curve(Ok(c)) => finished[f].curves[k] = Some(*c),
-                        Done::Folds(Ok(c)) => finished[f].folds[k] = Some(*c),
-                        Done::Curve(Err(e)) | Done::Folds(Err(e)) => {
-                            out.failures.push(format!("{}: {e}", part()))
-                        }
-                        Done::Compare(row) => {
-                            if let Some(why) = &row.failure {
-                                out.failures.push(format!("{}: {why}", part()));
+                    match *r {
+                        Ok(o) => {
+                            if let Outcome::Compared(row) = &o {
+                                if let Some(why) = &row.failure {
+                                    out.failures.push(format!("{}: {why}", part()));
+                                }
                             }
-                            finished[f].rows[k] = Some(row);
+                            finished[f].keep(k, o);
                         }
+                        Err(e) => out.failures.push(format!("{}: {e}", part())),
                     }
                 }
             }
         }
         finished
+    }
+}
+
+impl Finished {
+    /// Keep the outcome of job `k` of its kind.
+    fn keep(&mut self, k: usize, o: Outcome) {
+        match o {
+            Outcome::Curve(c) => self.curves[k] = Some(c),
+            Outcome::Folds(f) => self.folds[k] = Some(f),
+            Outcome::Compared(row) => self.rows[k] = Some(row),
+            _ => {}
+        }
+    }
+}
+
+/// A finished (or stopped) job's files: a curve's or fold analysis's CSV and JSON.
+fn write_outcome(dir: &Path, plans: &[FigurePlan], job: Job, o: &Outcome, out: &mut StudyOutcome) {
+    let Job::Value(f, k) = job else { return };
+    let stem = &plans[f].curves[k].stem;
+    match o {
+        Outcome::Curve(c) => write_curve(dir, stem, c, out),
+        Outcome::Folds(folds) => write_folds(dir, stem, folds, out),
+        _ => {}
     }
 }
 
@@ -620,7 +618,7 @@ fn write_folds(dir: &Path, stem: &str, folds: &FoldCurves, out: &mut StudyOutcom
 
 /// The backbones of every figure that asks for them, in parallel over figures: of
 /// the figure's model, each mode continued in each panel's output to the largest
-/// amplitude of it on the finished curves ([`crate::engine::sweep_backbones`]).
+/// amplitude of it on the finished curves ([`Analysis::Backbones`]).
 fn backbones(plans: &[FigurePlan], tops: &[Vec<f64>]) -> Vec<(Vec<SweepBackbone>, f64)> {
     plans
         .par_iter()
@@ -634,7 +632,14 @@ fn backbones(plans: &[FigurePlan], tops: &[Vec<f64>]) -> Vec<(Vec<SweepBackbone>
             };
             let mut found = match keep {
                 Some([]) => Vec::new(),
-                _ => p.td_model.sweep_backbones(range, tops, p.harmonics),
+                _ => {
+                    let analysis =
+                        Analysis::Backbones { range, tops: tops.clone(), harmonics: p.harmonics };
+                    match p.td_model.run(&analysis, &STUDY_NAMES, &mut ()) {
+                        Ok(Outcome::Backbones(found)) => found,
+                        _ => Vec::new(),
+                    }
+                }
             };
             if let Some(keep) = keep {
                 found.retain(|b| keep.contains(&b.mode));
