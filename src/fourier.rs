@@ -255,7 +255,6 @@ impl MaxAbs {
             return coeffs[0].abs();
         }
         let grid = 8 * (n + 1);
-        let h = 2.0 * PI / grid as f64;
         // on the stack up to N = 16 (zeroing a larger array costs more than the work)
         let mut vals = [0.0f64; 8 * 17];
         let mut vals_heap = Vec::new();
@@ -265,13 +264,69 @@ impl MaxAbs {
             vals_heap.resize(grid, 0.0);
             &mut vals_heap
         };
+        self.grid_values(coeffs, vals);
+        self.polished(coeffs, vals, f64::abs)
+    }
+
+    /// The least and the largest `x(θ)` of `coeffs` (counts as in [`MaxAbs::eval`],
+    /// found the same way: the extremes of the truncated series, to rounding). A NaN
+    /// coefficient gives NaN, an infinite one infinite bounds.
+    ///
+    /// ```
+    /// use ihbm::fourier::MaxAbs;
+    /// // 0.5 + 3 cos θ + 4 sin θ swings 5 about its mean
+    /// let (lo, hi) = MaxAbs::new(1).range(&[0.5, 3.0, 4.0]);
+    /// assert!((lo + 4.5).abs() < 1e-12 && (hi - 5.5).abs() < 1e-12);
+    /// ```
+    pub fn range(&self, coeffs: &[f64]) -> (f64, f64) {
+        if !coeffs.iter().all(|c| c.is_finite()) {
+            let s: f64 = coeffs.iter().map(|c| c.abs()).sum();
+            return (-s, s);
+        }
+        let n = self.n;
+        if coeffs.len() != 2 * n + 1 {
+            let other = coeffs.len().saturating_sub(1) / 2;
+            return match coeffs.len() {
+                0 => (0.0, 0.0),
+                _ => MaxAbs::new(other).range(&coeffs[..2 * other + 1]),
+            };
+        }
+        if n == 0 {
+            return (coeffs[0], coeffs[0]);
+        }
+        let grid = 8 * (n + 1);
+        let mut vals = [0.0f64; 8 * 17];
+        let mut vals_heap = Vec::new();
+        let vals: &mut [f64] = if grid <= vals.len() {
+            &mut vals[..grid]
+        } else {
+            vals_heap.resize(grid, 0.0);
+            &mut vals_heap
+        };
+        self.grid_values(coeffs, vals);
+        let hi = self.polished(coeffs, vals, |x| x);
+        let lo = -self.polished(coeffs, vals, |x| -x);
+        (lo, hi)
+    }
+
+    /// `x(θ_g)` at every grid point, into `vals` (`8(N + 1)` of them).
+    fn grid_values(&self, coeffs: &[f64], vals: &mut [f64]) {
+        let grid = vals.len();
         vals.fill(coeffs[0]);
         for (&c, col) in coeffs[1..].iter().zip(self.table.chunks_exact(grid)) {
             for (v, t) in vals.iter_mut().zip(col) {
                 *v += c * t;
             }
         }
-        let mut best = vals.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    }
+
+    /// The largest `f(x(θ))` (`f` is `|x|`, `x` or `-x`): the grid's best, and every
+    /// grid peak of `f` that could still beat it polished by Newton on `x'`.
+    fn polished(&self, coeffs: &[f64], vals: &[f64], f: impl Fn(f64) -> f64) -> f64 {
+        let n = self.n;
+        let grid = vals.len();
+        let h = 2.0 * PI / grid as f64;
+        let mut best = vals.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(f(v)));
         let curvature: f64 =
             (1..=n).map(|k| (k * k) as f64 * (coeffs[k].abs() + coeffs[n + k].abs())).sum();
         let slack = curvature * h * h / 8.0;
@@ -280,8 +335,8 @@ impl MaxAbs {
             let prev = vals[if j == 0 { grid - 1 } else { j - 1 }];
             let next = vals[if j + 1 == grid { 0 } else { j + 1 }];
             let here = vals[j];
-            let is_peak = here.abs() >= prev.abs() && here.abs() >= next.abs() && here != 0.0;
-            if !is_peak || here.abs() + slack < grid_best {
+            let is_peak = f(here) >= f(prev) && f(here) >= f(next) && here != 0.0;
+            if !is_peak || f(here) + slack < grid_best {
                 continue;
             }
             // Start at the vertex of the parabola through the three grid values.
@@ -301,10 +356,22 @@ impl MaxAbs {
                     break;
                 }
             }
-            best = best.max(eval(coeffs, theta).abs());
+            best = best.max(f(eval(coeffs, theta)));
         }
         best
     }
+}
+
+/// The root mean square of `x(θ)` over one period, its mean included, from the
+/// coefficients `[a0, a1..aN, b1..bN]` by Parseval: `sqrt(a0² + Σ (ak² + bk²) / 2)`.
+///
+/// ```
+/// // 3 cos θ + 4 sin θ: amplitude 5, RMS 5/√2
+/// assert!((ihbm::fourier::rms(&[0.0, 3.0, 4.0]) - 5.0 / 2f64.sqrt()).abs() < 1e-15);
+/// ```
+pub fn rms(coeffs: &[f64]) -> f64 {
+    let Some((a0, rest)) = coeffs.split_first() else { return 0.0 };
+    (a0 * a0 + 0.5 * rest.iter().map(|c| c * c).sum::<f64>()).sqrt()
 }
 
 /// FFT plans and buffers for one harmonic count and sample count.

@@ -4,7 +4,7 @@
 //! ([`MaxAbs`](crate::fourier::MaxAbs)). The corrector's one-off summaries and the
 //! continuation's per-point ones are the same computation.
 
-use crate::fourier::{coeff_len, MaxAbs};
+use crate::fourier::{coeff_len, rms, MaxAbs};
 use crate::model::{DynModel, Model};
 use crate::results::{OutputSummary, PointOutput};
 
@@ -38,18 +38,26 @@ impl OutputEval {
         &self.buf
     }
 
-    /// `max_abs`, mean and first-harmonic amplitude of every output, into `out`.
+    /// The statistics of every output ([`PointOutput`]), into `out`.
     pub fn points(&mut self, coeffs: &[f64], out: &mut Vec<PointOutput>) {
-        let nh = self.harmonics;
         out.clear();
         for k in 0..self.outputs.len() {
             self.coeffs(coeffs, k);
-            let x = &self.buf;
-            out.push(PointOutput {
-                max_abs: self.peaks.eval(x),
-                mean: x[0],
-                amp1: x[1].hypot(x[nh + 1]),
-            });
+            out.push(self.stats());
+        }
+    }
+
+    /// The statistics of the output in the buffer.
+    fn stats(&self) -> PointOutput {
+        let (nh, x) = (self.harmonics, &self.buf);
+        let (min, max) = self.peaks.range(x);
+        PointOutput {
+            max_abs: self.peaks.eval(x),
+            mean: x[0],
+            amp1: x[1].hypot(x[nh + 1]),
+            rms: rms(x),
+            min,
+            max,
         }
     }
 
@@ -59,14 +67,18 @@ impl OutputEval {
         (0..self.outputs.len())
             .map(|k| {
                 self.coeffs(coeffs, k);
+                let p = self.stats();
                 let x = &self.buf;
                 let mut sin = vec![0.0];
                 sin.extend_from_slice(&x[nh + 1..]);
                 OutputSummary {
                     name: self.outputs[k].0.clone(),
-                    max_abs: self.peaks.eval(x),
-                    mean: x[0],
-                    amp1: x[1].hypot(x[nh + 1]),
+                    max_abs: p.max_abs,
+                    mean: p.mean,
+                    amp1: p.amp1,
+                    rms: p.rms,
+                    min: p.min,
+                    max: p.max,
                     cos: x[..=nh].to_vec(),
                     sin,
                 }
@@ -93,11 +105,15 @@ mod tests {
         for ((o, p), out) in s.iter().zip(&pts).zip(model.outputs()) {
             assert_eq!(o.name, *out.name);
             assert_eq!((o.max_abs, o.mean, o.amp1), (p.max_abs, p.mean, p.amp1));
+            assert_eq!((o.rms, o.min, o.max), (p.rms, p.min, p.max));
         }
-        // x1 itself: its peak is 1 + 5 (closed form of a0 + |a1 + i b1|).
+        // x1 itself: its peak is 1 + 5 (closed form of a0 + |a1 + i b1|), its trough
+        // 1 - 5, its RMS sqrt(1 + 25/2) (Parseval).
         let k = names.iter().position(|n| *n == "x1").unwrap();
         assert!((s[k].max_abs - 6.0).abs() < 1e-9, "{}", s[k].max_abs);
         assert_eq!((s[k].mean, s[k].amp1), (1.0, 5.0));
+        assert!((s[k].max - 6.0).abs() < 1e-12 && (s[k].min + 4.0).abs() < 1e-12);
+        assert!((s[k].rms - 13.5f64.sqrt()).abs() < 1e-15);
         assert_eq!((s[k].cos.clone(), s[k].sin.clone()), (vec![1.0, 3.0], vec![0.0, 4.0]));
     }
 }

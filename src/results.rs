@@ -20,13 +20,20 @@ pub struct OutputSummary {
     pub mean: f64,
     /// First-harmonic amplitude sqrt(a1^2 + b1^2).
     pub amp1: f64,
+    /// Root mean square over one period, the mean included.
+    pub rms: f64,
+    /// Least x(t) over one period.
+    pub min: f64,
+    /// Largest x(t) over one period.
+    pub max: f64,
     /// Coefficients of cos(kΩt), k = 0..=N (`cos[0] = a0`).
     pub cos: Vec<f64>,
     /// Coefficients of sin(kΩt), k = 0..=N (`sin[0] = 0`).
     pub sin: Vec<f64>,
 }
 
-/// The per-point summary of one output on a curve.
+/// The per-point summary of one output on a curve: statistics of its truncated
+/// Fourier series over one period.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PointOutput {
     /// Largest |x(t)| over one period.
@@ -35,6 +42,34 @@ pub struct PointOutput {
     pub mean: f64,
     /// First-harmonic amplitude.
     pub amp1: f64,
+    /// Root mean square, the mean included: `sqrt(a0² + Σ (ak² + bk²) / 2)`.
+    pub rms: f64,
+    /// Least x(t).
+    pub min: f64,
+    /// Largest x(t).
+    pub max: f64,
+}
+
+impl PointOutput {
+    /// The statistics of the harmonic signal `mean + amplitude · cos Ωt`.
+    ///
+    /// ```
+    /// use ihbm::results::PointOutput;
+    /// let o = PointOutput::harmonic(1.0, 2.0);
+    /// assert_eq!((o.max_abs, o.min, o.max, o.amp1), (3.0, -1.0, 3.0, 2.0));
+    /// assert_eq!(o.rms, (1.0f64 + 2.0).sqrt()); // sqrt(1² + 2²/2)
+    /// ```
+    pub fn harmonic(mean: f64, amplitude: f64) -> Self {
+        let a = amplitude.abs();
+        PointOutput {
+            max_abs: mean.abs() + a,
+            mean,
+            amp1: a,
+            rms: (mean * mean + 0.5 * a * a).sqrt(),
+            min: mean - a,
+            max: mean + a,
+        }
+    }
 }
 
 /// What Hill's method says about a periodic solution.

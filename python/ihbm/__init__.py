@@ -48,7 +48,8 @@ class Curve(dict):
     """A sweep's result: the ``sweep`` JSON as a dict, plus ``"columns"``, one NumPy
     array per column: the parameter (``omega``, or the swept parameter's name),
     ``stable`` (1.0, 0.0, or NaN without a verdict), ``{output}_max_abs``,
-    ``{output}_mean``, ``{output}_amp1`` for every output, and ``segment`` (integers:
+    ``{output}_mean``, ``{output}_amp1``, ``{output}_rms``, ``{output}_min``,
+    ``{output}_max`` for every output, and ``segment`` (integers:
     the index in ``"segments"`` of the piece of the curve each point belongs to)."""
 
     def to_dataframe(self):

@@ -120,7 +120,7 @@ fn array<'py, const B: usize>(
 }
 
 /// A curve's columns, named as its CSV's (the parameter, `stable` as 1.0, 0.0 or NaN
-/// where there is no verdict, `{output}_{max_abs,mean,amp1}`) and then `segment`,
+/// where there is no verdict, `{output}_{max_abs,mean,amp1,rms,min,max}`) and then `segment`,
 /// the index of the piece of the curve (`segments` in the JSON) each point belongs to.
 fn curve_columns<'py>(py: Python<'py>, c: &Curve) -> PyResult<Bound<'py, PyDict>> {
     let np = py.import("numpy")?;
@@ -143,6 +143,9 @@ fn curve_columns<'py>(py: Python<'py>, c: &Curve) -> PyResult<Bound<'py, PyDict>
         cols.set_item(format!("{name}_max_abs"), f(&|p| out(p, |o| o.max_abs))?)?;
         cols.set_item(format!("{name}_mean"), f(&|p| out(p, |o| o.mean))?)?;
         cols.set_item(format!("{name}_amp1"), f(&|p| out(p, |o| o.amp1))?)?;
+        cols.set_item(format!("{name}_rms"), f(&|p| out(p, |o| o.rms))?)?;
+        cols.set_item(format!("{name}_min"), f(&|p| out(p, |o| o.min))?)?;
+        cols.set_item(format!("{name}_max"), f(&|p| out(p, |o| o.max))?)?;
     }
     // Segment indices are small; i64 is NumPy's default integer.
     let segment = c.points.iter().map(|p| i64::try_from(p.segment).unwrap_or(i64::MAX));

@@ -146,12 +146,13 @@ def test_columns_are_the_json_points_and_segment_indexes_the_segments():
     cols = c["columns"]
     pts = c["points"]
     assert isinstance(c, ihbm.Curve) and isinstance(c, dict)
-    assert list(cols) == ["omega", "stable", "x_max_abs", "x_mean", "x_amp1", "segment"]
+    stats = ["max_abs", "mean", "amp1", "rms", "min", "max"]
+    assert list(cols) == ["omega", "stable"] + [f"x_{s}" for s in stats] + ["segment"]
     assert cols["omega"].dtype == np.float64 and cols["segment"].dtype == np.int64
     assert np.array_equal(cols["omega"], [p["omega"] for p in pts])
     verdict = {True: 1.0, False: 0.0, None: np.nan}
     assert np.array_equal(cols["stable"], [verdict[p["stable"]] for p in pts], equal_nan=True)
-    for stat in ["max_abs", "mean", "amp1"]:
+    for stat in stats:
         assert np.array_equal(cols[f"x_{stat}"], [p["outputs"]["x"][stat] for p in pts])
     # Each point lies in the range of the segment its index names.
     segs = c["segments"]

@@ -44,16 +44,16 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                     w(
                         out,
                         format_args!(
-                            "{:<10} {:>14} {:>14} {:>14}\n",
-                            "output", "max_abs", "mean", "amp1"
+                            "{:<10} {:>14} {:>14} {:>14} {:>14} {:>14} {:>14}\n",
+                            "output", "max_abs", "mean", "amp1", "rms", "min", "max"
                         ),
                     )?;
                     for o in &rec.outputs {
                         w(
                             out,
                             format_args!(
-                                "{:<10} {:>14.6e} {:>14.6e} {:>14.6e}\n",
-                                o.name, o.max_abs, o.mean, o.amp1
+                                "{:<10} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e}\n",
+                                o.name, o.max_abs, o.mean, o.amp1, o.rms, o.min, o.max
                             ),
                         )?;
                     }

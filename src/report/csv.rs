@@ -1,10 +1,32 @@
-//! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,...` (for a
-//! parameter sweep the first column is the parameter, named as in the model).
+//! One CSV per curve: `omega,stable,<out>_max_abs,<out>_mean,<out>_amp1,<out>_rms,
+//! <out>_min,<out>_max,...` (for a parameter sweep the first column is the parameter,
+//! named as in the model). Every output's columns are those of [`STATS`].
 
 use crate::backbone::{Backbone, CycleFamily};
 use crate::bifurcation::FoldCurves;
 use crate::results::Curve;
+use crate::results::PointOutput;
 use std::fmt::Write;
+
+/// The statistics of an output, in the order of its CSV columns (`<out>_max_abs`, ...).
+pub const STATS: [&str; 6] = ["max_abs", "mean", "amp1", "rms", "min", "max"];
+
+/// The header columns of every output's statistics.
+fn stats_header(s: &mut String, names: &[String]) {
+    for name in names {
+        for stat in STATS {
+            // Writing to a String cannot fail.
+            let _ = write!(s, ",{name}_{stat}");
+        }
+    }
+}
+
+/// One row's statistics of every output, in the order of [`STATS`].
+fn stats_row(s: &mut String, outs: &[PointOutput]) {
+    for o in outs {
+        let _ = write!(s, ",{},{},{},{},{},{}", o.max_abs, o.mean, o.amp1, o.rms, o.min, o.max);
+    }
+}
 
 /// The CSV of a curve: a header, then one row per point in arc-length order
 /// (the book's output reference). Numbers use Rust's shortest round-trip form. A parameter
@@ -16,27 +38,23 @@ use std::fmt::Write;
 ///     model: "m".into(), harmonics: 1, parameter: Parameter::Omega,
 ///     output_names: vec!["x".into()],
 ///     points: vec![CurvePoint { omega: 2.0, param: 2.0, coeffs: vec![], stability: Stability::Stable,
-///         outputs: vec![PointOutput { max_abs: 0.5, mean: 0.0, amp1: 0.5 }], segment: 0 }],
+///         outputs: vec![PointOutput::harmonic(0.0, 0.5)], segment: 0 }],
 ///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
 ///     bifurcations: vec![], convergence: None };
 /// assert_eq!(ihbm::report::curve_csv(&curve),
-///            "omega,stable,x_max_abs,x_mean,x_amp1\n2,true,0.5,0,0.5\n");
+///            format!("omega,stable,x_max_abs,x_mean,x_amp1,x_rms,x_min,x_max\n\
+///                     2,true,0.5,0,0.5,{},-0.5,0.5\n", 0.125f64.sqrt()));
 /// ```
 pub fn curve_csv(curve: &Curve) -> String {
     let by_param = !curve.parameter.is_omega();
     let mut s = format!("{},stable", curve.parameter);
-    for name in &curve.output_names {
-        // Writing to a String cannot fail.
-        let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
-    }
+    stats_header(&mut s, &curve.output_names);
     s.push('\n');
     for p in &curve.points {
         let x = if by_param { p.param } else { p.omega };
         let stable = p.stability.verdict().map_or(String::new(), |v| v.to_string());
         let _ = write!(s, "{x},{stable}");
-        for o in &p.outputs {
-            let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
-        }
+        stats_row(&mut s, &p.outputs);
         s.push('\n');
     }
     s
@@ -72,38 +90,30 @@ pub fn folds_csv(f: &FoldCurves) -> String {
 }
 
 /// The CSV of a backbone: `omega,damping,xi,amplitude,<out>_max_abs,<out>_mean,
-/// <out>_amp1,...`, one row per point in arc-length order.
+/// <out>_amp1,<out>_rms,<out>_min,<out>_max,...`, one row per point in arc-length order.
 pub fn backbone_csv(b: &Backbone) -> String {
     let mut s = String::from("omega,damping,xi,amplitude");
-    for name in &b.output_names {
-        let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
-    }
+    stats_header(&mut s, &b.output_names);
     s.push('\n');
     for p in &b.points {
         let _ = write!(s, "{},{},{},{}", p.omega, p.damping, p.xi, p.amplitude);
-        for o in &p.outputs {
-            let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
-        }
+        stats_row(&mut s, &p.outputs);
         s.push('\n');
     }
     s
 }
 
 /// The CSV of a family of limit cycles: `<P>,omega,period,stable,<out>_max_abs,
-/// <out>_mean,<out>_amp1,...`, one row per point in arc-length order (`stable` empty
-/// where there is no verdict).
+/// <out>_mean,<out>_amp1,<out>_rms,<out>_min,<out>_max,...`, one row per point in
+/// arc-length order (`stable` empty where there is no verdict).
 pub fn cycles_csv(f: &CycleFamily) -> String {
     let mut s = format!("{},omega,period,stable", f.parameter);
-    for name in &f.output_names {
-        let _ = write!(s, ",{name}_max_abs,{name}_mean,{name}_amp1");
-    }
+    stats_header(&mut s, &f.output_names);
     s.push('\n');
     for p in &f.points {
         let stable = p.stability.verdict().map_or(String::new(), |b| b.to_string());
         let _ = write!(s, "{},{},{},{stable}", p.value, p.omega, p.period);
-        for o in &p.outputs {
-            let _ = write!(s, ",{},{},{}", o.max_abs, o.mean, o.amp1);
-        }
+        stats_row(&mut s, &p.outputs);
         s.push('\n');
     }
     s

@@ -3,34 +3,53 @@
 
 use crate::backbone::{Backbone, Cycle, CycleFamily, EventKind};
 use crate::bifurcation::{FoldCurves, FoldPoint};
-use crate::results::{Curve, PointOutput, SimRecord, SolveRecord};
+use crate::results::{Curve, OutputSummary, PointOutput, SimRecord, SolveRecord};
 use serde_json::{json, Map, Value};
 
+/// One output's statistics: `{max_abs, mean, amp1, rms, min, max}`.
+fn stats(o: &PointOutput) -> Value {
+    json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1,
+            "rms": o.rms, "min": o.min, "max": o.max })
+}
+
+/// Every output's statistics, by name.
 fn point_outputs(names: &[String], outs: &[PointOutput]) -> Value {
     let mut m = Map::new();
     for (name, o) in names.iter().zip(outs) {
-        m.insert(name.clone(), json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1 }));
+        m.insert(name.clone(), stats(o));
+    }
+    Value::Object(m)
+}
+
+/// Every output's statistics and harmonics (`cos`, `sin`), by name.
+fn summaries(outs: &[OutputSummary]) -> Value {
+    let mut m = Map::new();
+    for o in outs {
+        let p = PointOutput {
+            max_abs: o.max_abs,
+            mean: o.mean,
+            amp1: o.amp1,
+            rms: o.rms,
+            min: o.min,
+            max: o.max,
+        };
+        let mut v = stats(&p);
+        v["cos"] = json!(o.cos);
+        v["sin"] = json!(o.sin);
+        m.insert(o.name.clone(), v);
     }
     Value::Object(m)
 }
 
 /// The JSON of `solve`: `{model, omega, harmonics, converged, iterations,
-/// residual_norm, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`, and
-/// `failure` ([`SolveRecord::failure`]) when Newton could not start.
+/// residual_norm, stable, outputs: {name: {max_abs, mean, amp1, rms, min, max, cos,
+/// sin}}}`, and `failure` ([`SolveRecord::failure`]) when Newton could not start.
 pub fn solve_json(r: &SolveRecord) -> Value {
-    let mut outs = Map::new();
-    for o in &r.outputs {
-        outs.insert(
-            o.name.clone(),
-            json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1,
-                    "cos": o.cos, "sin": o.sin }),
-        );
-    }
     let mut v = json!({
         "model": r.model, "omega": r.omega, "harmonics": r.harmonics,
         "converged": r.converged, "iterations": r.iterations,
         "residual_norm": r.residual_norm, "stable": r.stability.verdict(),
-        "outputs": Value::Object(outs),
+        "outputs": summaries(&r.outputs),
     });
     // The extension: why Newton could not start (absent when it could).
     if let (Some(why), Some(m)) = (&r.failure, v.as_object_mut()) {
@@ -69,11 +88,8 @@ pub fn sweep_json(c: &Curve) -> Value {
         .folds
         .iter()
         .map(|f| {
-            let mut m = Map::new();
-            for (name, o) in c.output_names.iter().zip(&f.outputs) {
-                m.insert(name.clone(), json!({ "max_abs": o.max_abs }));
-            }
-            let mut v = json!({ "omega": f.omega, "outputs": Value::Object(m) });
+            let outputs = point_outputs(&c.output_names, &f.outputs);
+            let mut v = json!({ "omega": f.omega, "outputs": outputs });
             if by_param {
                 v["param"] = json!(f.param);
             }
@@ -146,21 +162,15 @@ pub fn simulate_json(r: &SimRecord) -> Value {
 }
 
 /// The JSON of `folds`: `{model, harmonics, parameter, curves:
-/// [{points: [{omega, value, outputs: {name: {max_abs}}}], ended}], cusps: [{omega,
-/// value, outputs}]}`, then `range`, `omega_range`, `start_folds`
+/// [{points: [{omega, value, outputs: {name: {max_abs, mean, amp1, rms, min, max}}}],
+/// ended}], cusps: [{omega, value, outputs}]}`, then `range`, `omega_range`, `start_folds`
 /// (folds found by the sweeps at the two ends of the range), `boundary` (`"fold"` or
 /// `"period-doubling"`: what the curves follow) and `stats`; each curve
 /// adds `start` (`"from"` or `"to"`: the end its first fold was found at), each cusp
 /// `kind` (`"cusp"`, or `"isola"` where a detached branch joins), `curve` (its
 /// index) and `located`.
 pub fn folds_json(f: &FoldCurves) -> Value {
-    let outputs = |outs: &[PointOutput]| {
-        let mut m = Map::new();
-        for (name, o) in f.output_names.iter().zip(outs) {
-            m.insert(name.clone(), json!({ "max_abs": o.max_abs }));
-        }
-        Value::Object(m)
-    };
+    let outputs = |outs: &[PointOutput]| point_outputs(&f.output_names, outs);
     let point = |p: &FoldPoint| {
         let mut v = json!({ "omega": p.omega, "value": p.value, "outputs": outputs(&p.outputs) });
         if let (Some(w), Some(m)) = (p.torus_frequency, v.as_object_mut()) {
@@ -196,7 +206,7 @@ pub fn folds_json(f: &FoldCurves) -> Value {
 }
 
 /// The JSON of `backbone`: `{model, harmonics, mode, points:
-/// [{omega, damping, stable, outputs: {name: {max_abs, mean, amp1}}}]}`, each point
+/// [{omega, damping, stable, outputs: {name: {max_abs, mean, amp1, rms, min, max}}}]}`, each point
 /// also with `xi` (the artificial damping of `-ξ M ẋ`) and `amplitude` (the modal
 /// amplitude), and `output`, `to`, `linear` (the start's `omega` and `damping`),
 /// `events` (`[{kind: "turn" | "internal-resonance", omega, amplitude, ratio: "k:1"
@@ -239,27 +249,19 @@ pub fn backbone_json(b: &Backbone) -> Value {
 }
 
 /// The JSON of `cycle`: `{model, harmonics, converged, omega,
-/// period, stable, outputs: {name: {max_abs, mean, amp1, cos, sin}}}`, and `mode`
-/// (the linearised mode it was followed from).
+/// period, stable, outputs: {name: {max_abs, mean, amp1, rms, min, max, cos, sin}}}`,
+/// and `mode` (the linearised mode it was followed from).
 pub fn cycle_json(c: &Cycle) -> Value {
-    let mut outs = Map::new();
-    for o in &c.outputs {
-        outs.insert(
-            o.name.clone(),
-            json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1,
-                    "cos": o.cos, "sin": o.sin }),
-        );
-    }
     json!({
         "model": c.model, "harmonics": c.harmonics, "converged": true,
         "omega": c.omega, "period": c.period, "stable": c.stability.verdict(),
-        "outputs": Value::Object(outs), "mode": c.mode,
+        "outputs": summaries(&c.outputs), "mode": c.mode,
     })
 }
 
 /// The JSON of a family of limit cycles (`cycle --param`): `{model, harmonics,
 /// parameter, mode, points: [{value, omega, period, stable, outputs: {name: {max_abs,
-/// mean, amp1}}}], hopf: {value, omega} or null, ended, range, stats}`.
+/// mean, amp1, rms, min, max}}}], hopf: {value, omega} or null, ended, range, stats}`.
 pub fn cycles_json(f: &CycleFamily) -> Value {
     let points: Vec<Value> = f
         .points

@@ -23,7 +23,7 @@ pub struct CurveFacts {
 /// ```
 /// use ihbm::results::{Curve, CurvePoint, CurveStats, Parameter, PointOutput, Stability};
 /// let pt = |w: f64, a: f64| CurvePoint { omega: w, param: w, coeffs: vec![], stability: Stability::Stable,
-///     outputs: vec![PointOutput { max_abs: a, mean: 0.0, amp1: a }], segment: 0 };
+///     outputs: vec![PointOutput::harmonic(0.0, a)], segment: 0 };
 /// let curve = Curve { model: "m".into(), harmonics: 1, parameter: Parameter::Omega,
 ///     output_names: vec!["x".into()], points: vec![pt(1.0, 1.0), pt(2.0, 3.0), pt(9.0, 5.0)],
 ///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),

@@ -1,7 +1,10 @@
 //! End-to-end tests of the `ihbm` binary: every command on good input, every bad-input
-//! class, and the JSON documents field for field (CONTRACT section 2).
+//! class, and the JSON documents field for field (as the book's output reference gives them).
 
 use crate::common as cli_common;
+
+/// The statistics every output reports, in the JSON's order.
+const STATS: [&str; 6] = ["max_abs", "mean", "amp1", "rms", "min", "max"];
 
 use cli_common::{assert_rejected, ihbm, stderr, stdout, tmp};
 use num_complex::Complex64;
@@ -16,7 +19,7 @@ fn keys(v: &Value) -> Vec<&str> {
         .collect()
 }
 
-/// |Z1/F|, |Y/F| of the linear quarter car (ERRATA.md closed form), Table 1 values.
+/// |Z1/F|, |Y/F| of the linear quarter car (its closed form), Table 1 values.
 fn linear_qc(omega: f64) -> (f64, f64) {
     let (m1, m2, k1, kt, c, h, p) = (240.0, 30.0, 16_000.0, 160_000.0, 1_000.0, 1_000.0, 0.5);
     let iw = Complex64::new(0.0, omega);
@@ -66,7 +69,7 @@ fn help_on_every_command() {
 
 #[test]
 fn solve_json_matches_the_contract_and_the_linear_closed_form() {
-    // k3 = 0: the model is linear, |Z1| = F |Z1/F| (ERRATA.md), a single harmonic.
+    // k3 = 0: the model is linear, |Z1| = F |Z1/F| (closed form), a single harmonic.
     let o = ihbm(&["solve", "quarter-car", "--omega", "8", "--set", "k3=0", "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
@@ -94,7 +97,7 @@ fn solve_json_matches_the_contract_and_the_linear_closed_form() {
     assert_eq!(keys(&v["outputs"]), ["z1", "z2", "y"]);
     for out in ["z1", "z2", "y"] {
         let o = &v["outputs"][out];
-        assert_eq!(keys(o), ["max_abs", "mean", "amp1", "cos", "sin"]);
+        assert_eq!(keys(o), ["max_abs", "mean", "amp1", "rms", "min", "max", "cos", "sin"]);
         let cos = o["cos"].as_array().unwrap();
         let sin = o["sin"].as_array().unwrap();
         assert_eq!((cos.len(), sin.len()), (6, 6));
@@ -102,6 +105,26 @@ fn solve_json_matches_the_contract_and_the_linear_closed_form() {
         assert_eq!(o["mean"], cos[0]);
         let (a1, b1) = (cos[1].as_f64().unwrap(), sin[1].as_f64().unwrap());
         assert!((o["amp1"].as_f64().unwrap() - a1.hypot(b1)).abs() <= 1e-15);
+        // The other statistics from the series itself, sampled densely: the RMS by the
+        // trapezoidal rule (exact for a trigonometric polynomial of degree < samples),
+        // the extremes to the sampling's O(h²).
+        let c: Vec<f64> = cos.iter().map(|x| x.as_f64().unwrap()).collect();
+        let s: Vec<f64> = sin.iter().map(|x| x.as_f64().unwrap()).collect();
+        let m = 20_000;
+        let x: Vec<f64> = (0..m)
+            .map(|j| {
+                let th = std::f64::consts::TAU * j as f64 / m as f64;
+                (0..6).map(|k| c[k] * (k as f64 * th).cos() + s[k] * (k as f64 * th).sin()).sum()
+            })
+            .collect();
+        let rms = (x.iter().map(|v| v * v).sum::<f64>() / m as f64).sqrt();
+        let (lo, hi) = x.iter().fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let scale = hi.abs().max(lo.abs());
+        assert!((o["rms"].as_f64().unwrap() - rms).abs() <= 1e-12 * scale, "{out}: {o}");
+        let (min, max) = (o["min"].as_f64().unwrap(), o["max"].as_f64().unwrap());
+        assert!(min <= lo + 1e-15 && lo - min < 1e-6 * scale, "{out}: {min} vs {lo}");
+        assert!(max >= hi - 1e-15 && max - hi < 1e-6 * scale, "{out}: {max} vs {hi}");
+        assert_eq!(o["max_abs"].as_f64().unwrap(), max.max(-min));
     }
     let (z1, y) = linear_qc(8.0);
     let got_z1 = v["outputs"]["z1"]["max_abs"].as_f64().unwrap();
@@ -349,13 +372,13 @@ fn sweep_writes_contract_json_csv_and_plot() {
         assert_eq!(keys(p), ["omega", "stable", "outputs"]);
         assert!(p["stable"].is_boolean());
         assert_eq!(keys(&p["outputs"]), ["x"]);
-        assert_eq!(keys(&p["outputs"]["x"]), ["max_abs", "mean", "amp1"]);
+        assert_eq!(keys(&p["outputs"]["x"]), STATS);
     }
     let folds = v["folds"].as_array().unwrap();
     assert_eq!(folds.len(), 2, "{}", v["folds"]);
     for f in folds {
         assert_eq!(keys(f), ["omega", "outputs"]);
-        assert_eq!(keys(&f["outputs"]["x"]), ["max_abs"]);
+        assert_eq!(keys(&f["outputs"]["x"]), STATS);
     }
     let jumps = v["jumps"].as_array().unwrap();
     assert!(
@@ -371,7 +394,7 @@ fn sweep_writes_contract_json_csv_and_plot() {
     // The middle branch between the folds is unstable (a saddle).
     assert!(points.iter().any(|p| p["stable"] == false));
     let csv = std::fs::read_to_string(&csv).unwrap();
-    assert_eq!(csv.lines().next(), Some("omega,stable,x_max_abs,x_mean,x_amp1"));
+    assert_eq!(csv.lines().next(), Some("omega,stable,x_max_abs,x_mean,x_amp1,x_rms,x_min,x_max"));
     assert_eq!(csv.lines().count(), 1 + points.len());
     let svg = std::fs::read_to_string(&svg).unwrap();
     roxmltree::Document::parse(&svg).unwrap();
@@ -380,7 +403,7 @@ fn sweep_writes_contract_json_csv_and_plot() {
 #[test]
 fn simulate_json_matches_the_contract_and_the_closed_form() {
     // Linear quarter car (k3 = 0) from rest: after 200 periods the steady amplitude is
-    // the closed-form one (ERRATA.md) up to the scheme's error and the t^-p transient.
+    // the closed-form one up to the scheme's error and the t^-p transient.
     let o = ihbm(&[
         "simulate",
         "quarter-car",
@@ -535,7 +558,7 @@ fn simulate_warns_of_a_transient_too_slow_to_drift() {
     assert!(!stdout(&o).contains("warning"), "{}", stdout(&o));
 }
 
-/// `folds` (CONTRACT section 3): the JSON's keys, the one-harmonic Duffing's cusp from
+/// `folds`: the JSON's keys, the one-harmonic Duffing's cusp from
 /// its amplitude equation (the triple root: `k - mΩ² = -√3 cΩ`,
 /// `F² = 8 (cΩ)³ / (3√3 · 3k3/4)`), the CSV and the figure; bad input refused.
 #[test]
@@ -573,7 +596,7 @@ fn folds_writes_contract_json_csv_and_plot() {
     assert_eq!(curve["ended"], "reached end");
     let p = &curve["points"][0];
     assert_eq!(keys(p), ["omega", "value", "outputs"]);
-    assert_eq!(keys(&p["outputs"]["x"]), ["max_abs"]);
+    assert_eq!(keys(&p["outputs"]["x"]), STATS);
     let cusps = v["cusps"].as_array().unwrap();
     assert_eq!(cusps.len(), 1);
     let (c, m, k, k3) = (0.1, 1.0, 1.0, 1.0);
@@ -610,7 +633,7 @@ fn folds_writes_contract_json_csv_and_plot() {
     );
 }
 
-/// `sweep --period 2` (CONTRACT section 3): the JSON of `sweep` with `"period": 2`, Ω
+/// `sweep --period 2`: the JSON of `sweep` with `"period": 2`, Ω
 /// the forcing frequency, starting where the period-1 curve (traced separately) has
 /// its period doubling; bad periods and ranges without period doubling refused.
 /// x'' + 0.05x' + x + 0.5x² = 0.6 cos Ωt doubles its period at Ω = 1.87514 and
@@ -816,7 +839,7 @@ fn sweep_break_symmetry_switches_at_the_branch_point() {
     assert_rejected(&[&base[..], &["--break-symmetry", "--period", "2"]].concat(), &["--period"]);
 }
 
-/// `backbone` writes the JSON of CONTRACT section 3: the undamped Duffing backbone
+/// `backbone` writes the JSON of the book's output reference: the undamped Duffing backbone
 /// ends at max |x| = A with the elliptic closed form's frequency; a mode beyond the
 /// DOFs is a usage error, and an amplitude the mode cannot reach (the softening
 /// backbone's frequency falls to 0 at the separatrix, max |x| = √(k/|k3|) = 1) writes
@@ -852,13 +875,16 @@ fn backbone_writes_contract_json_and_keeps_what_it_traced() {
     assert_eq!(keys(last)[..3], ["omega", "damping", "stable"]);
     // c = 0: a conservative mode, a motion of the model, neutrally stable (Hill)
     assert_eq!(last["stable"].as_bool(), Some(true));
-    assert_eq!(keys(&last["outputs"]["x"]), ["max_abs", "mean", "amp1"]);
+    assert_eq!(keys(&last["outputs"]["x"]), STATS);
     assert!((last["outputs"]["x"]["max_abs"].as_f64().unwrap() - 1.0).abs() < 1e-9);
     // π √2 / (2 K(1/4)), K(1/4) = 1.685750354812596
     let exact = std::f64::consts::PI * 2f64.sqrt() / (2.0 * 1.685750354812596);
     assert!((last["omega"].as_f64().unwrap() - exact).abs() < 1e-9 * exact, "{}", last["omega"]);
     let text = std::fs::read_to_string(&csv).unwrap();
-    assert!(text.starts_with("omega,damping,xi,amplitude,x_max_abs,x_mean,x_amp1\n"), "{text}");
+    assert!(
+        text.starts_with("omega,damping,xi,amplitude,x_max_abs,x_mean,x_amp1,x_rms,x_min,x_max\n"),
+        "{text}"
+    );
     assert_eq!(text.lines().count(), 1 + points.len());
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
 
@@ -899,7 +925,7 @@ fn backbone_writes_contract_json_and_keeps_what_it_traced() {
     assert!(last[4] > 0.99 && last[4] < 1.2, "{}", last[4]);
 }
 
-/// `cycle` writes the JSON of CONTRACT section 3; at μ = 2 the van der Pol cycle's
+/// `cycle` writes the JSON of the book's output reference; at μ = 2 the van der Pol cycle's
 /// period is 7.62987 s (the classical value, Hairer–Wanner's tables), and a model
 /// without self-excitation fails with the reason.
 #[test]
@@ -922,7 +948,10 @@ fn cycle_writes_contract_json() {
         ["model", "harmonics", "converged", "omega", "period", "stable", "outputs"]
     );
     assert_eq!(v["stable"], true);
-    assert_eq!(keys(&v["outputs"]["x"]), ["max_abs", "mean", "amp1", "cos", "sin"]);
+    assert_eq!(
+        keys(&v["outputs"]["x"]),
+        ["max_abs", "mean", "amp1", "rms", "min", "max", "cos", "sin"]
+    );
     let period = v["period"].as_f64().unwrap();
     assert!((period - 7.62987).abs() < 1e-5, "{period}");
     let o = ihbm(&["cycle", "duffing", "--omega", "1"]);
@@ -984,7 +1013,10 @@ fn cycle_families_write_points_and_the_hopf_point() {
         }
     }
     let text = std::fs::read_to_string(&csv).unwrap();
-    assert!(text.starts_with("mu,omega,period,stable,x_max_abs,x_mean,x_amp1\n"), "{text}");
+    assert!(
+        text.starts_with("mu,omega,period,stable,x_max_abs,x_mean,x_amp1,x_rms,x_min,x_max\n"),
+        "{text}"
+    );
     assert_eq!(text.lines().count(), 1 + points.len());
     assert!(std::fs::read_to_string(&svg).unwrap().contains("Hopf point"));
 

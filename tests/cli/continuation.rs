@@ -81,7 +81,7 @@ fn sweep_param_force_on_a_linear_oscillator_is_proportional() {
     // The CSV's first column is F, with the parameter values; the plot's x axis too.
     let csv = std::fs::read_to_string(&csv).unwrap();
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("F,stable,x_max_abs,x_mean,x_amp1"));
+    assert_eq!(lines.next(), Some("F,stable,x_max_abs,x_mean,x_amp1,x_rms,x_min,x_max"));
     let col: Vec<f64> = lines.map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
     assert_eq!(col.len(), pts.len());
     for (c, p) in col.iter().zip(pts) {
@@ -181,7 +181,7 @@ fn no_stability_keeps_the_points_and_drops_the_verdicts() {
     for (p, q) in pa.iter().zip(pb) {
         assert_eq!(p["omega"], q["omega"]);
         assert_eq!(p["outputs"], q["outputs"]);
-        // CONTRACT section 3: no verdict is `null`, not a `true` that was never checked.
+        // No verdict is `null`, not a `true` that was never checked.
         assert_eq!(
             q["stable"],
             serde_json::Value::Null,
@@ -468,7 +468,7 @@ fn wide_ranges_give_finite_points_inside_the_range() {
             let w = f(p, "omega");
             assert!(w >= range[0] * (1.0 - 1e-12) && w <= range[1] * (1.0 + 1e-12), "{line}: {p}");
             for o in p["outputs"].as_object().unwrap().values() {
-                for key in ["max_abs", "mean", "amp1"] {
+                for key in ["max_abs", "mean", "amp1", "rms", "min", "max"] {
                     assert!(o[key].as_f64().is_some_and(f64::is_finite), "{line}: {p}");
                 }
             }

@@ -60,7 +60,7 @@ fn every_parameter_value_of_sections_4_2_and_4_3_traces_1_to_100() {
         let model = car(case);
         let c = sweep(&model, 1.0, 100.0, &opts).unwrap_or_else(|e| panic!("{case:?}: {e}"));
         check_whole(&c, &format!("{case:?}"), &model);
-        // ERRATA: at F <= 1 cm and Table 1 damping there is no fold for any k3.
+        // The paper's corrected figures: at F <= 1 cm and Table 1 damping there is no fold for any k3.
         assert!(
             c.folds.is_empty(),
             "{case:?}: folds {:?}",

@@ -1,4 +1,4 @@
-//! The linear quarter car (k3 = 0) against the closed form of ERRATA.md:
+//! The linear quarter car (k3 = 0) against its closed form:
 //! G(Ω) = k1 + i c Ω + h (iΩ)^p, Δ(Ω) = m1 m2 Ω^4 - [kt m1 + (m1 + m2) G] Ω^2 + kt G,
 //! Z1/F = kt G / Δ, Y/F = kt m1 Ω^2 / Δ.
 
@@ -53,7 +53,7 @@ fn linear_quarter_car_matches_closed_form() {
 
 #[test]
 fn errata_reference_values_at_8_rad_s() {
-    // |Z1/F| = 2.2972768, |Y/F| = 1.7136480 at Ω = 8 rad/s (ERRATA.md, measured independently)
+    // |Z1/F| = 2.2972768, |Y/F| = 1.7136480 at Ω = 8 rad/s (the closed form, evaluated independently)
     let car = QuarterCar { k3: 0.0, ..QuarterCar::default() };
     let sol = solve(&car, 8.0, &SolveOptions::default(), None).unwrap();
     let out = sol.outputs(&car);

@@ -1,7 +1,7 @@
 //! Identities of the spectral operators and the dual-number Jacobian (proptest).
 
 use ihbm::balance::Balance;
-use ihbm::fourier::{apply_order, coeff_len, max_abs, sample_count, Fourier};
+use ihbm::fourier::{apply_order, coeff_len, max_abs, rms, sample_count, Fourier, MaxAbs};
 use ihbm::models::{FractionalDuffing, QuarterCar};
 use ihbm::Model;
 use proptest::prelude::*;
@@ -369,5 +369,57 @@ proptest! {
         let m = max_abs(&c);
         prop_assert!(m >= dense - 1e-12, "{m} below sampled {dense}");
         prop_assert!(m <= dense + b * h * h / 8.0 + 1e-12, "{m} above the bound of {dense}");
+    }
+}
+
+/// The least and largest x(θ), and the RMS, where they are known in closed form.
+#[test]
+fn range_and_rms_closed_forms() {
+    // cos θ - cos 2θ / 2 + 0.1: largest 0.85 at cos θ = 1/2 (off the grid), least -1.4
+    // at θ = π; RMS sqrt(0.1² + (1 + 1/4) / 2) by Parseval.
+    let c = [0.1, 1.0, -0.5, 0.0, 0.0];
+    let (lo, hi) = MaxAbs::new(2).range(&c);
+    assert!((lo + 1.4).abs() < 1e-12 && (hi - 0.85).abs() < 1e-12, "{lo} {hi}");
+    assert!((rms(&c) - (0.01f64 + 0.625).sqrt()).abs() < 1e-15);
+    // A constant is its own extremes and RMS (of its magnitude).
+    assert_eq!(MaxAbs::new(0).range(&[-2.0]), (-2.0, -2.0));
+    assert_eq!(rms(&[-2.0]), 2.0);
+    // Wholly negative: 1 below a mean of -3 is -4 at the least, -2 at the largest.
+    let (lo, hi) = MaxAbs::new(1).range(&[-3.0, 0.6, 0.8]);
+    assert!((lo + 4.0).abs() < 1e-12 && (hi + 2.0).abs() < 1e-12, "{lo} {hi}");
+    // Non-finite coefficients are never summarised as finite bounds.
+    let (lo, hi) = MaxAbs::new(1).range(&[0.0, f64::NAN, 1.0]);
+    assert!(lo.is_nan() && hi.is_nan());
+}
+
+proptest! {
+    /// The range against brute force as `max_abs_matches_dense_sampling` (the least
+    /// and largest values bound the samples', within B h²/8), `max_abs` is the larger
+    /// of their magnitudes, and the RMS is the samples' (the trapezoidal rule is exact
+    /// for a trigonometric polynomial of degree below the sample count).
+    #[test]
+    fn range_and_rms_match_dense_sampling(n in 1usize..9, seed in prop::collection::vec(-1.0f64..1.0, 17)) {
+        let c: Vec<f64> = seed[..2 * n + 1].to_vec();
+        let dense_n = 20_000;
+        let h = 2.0 * PI / dense_n as f64;
+        let x: Vec<f64> = (0..dense_n)
+            .map(|j| {
+                let t = j as f64 * h;
+                let mut x = c[0];
+                for k in 1..=n {
+                    x += c[k] * (k as f64 * t).cos() + c[n + k] * (k as f64 * t).sin();
+                }
+                x
+            })
+            .collect();
+        let (dlo, dhi) = x.iter().fold((f64::MAX, f64::MIN), |(l, u), &v| (l.min(v), u.max(v)));
+        let b: f64 = (1..=n).map(|k| (k * k) as f64 * (c[k].abs() + c[n + k].abs())).sum();
+        let slack = b * h * h / 8.0 + 1e-12;
+        let (lo, hi) = MaxAbs::new(n).range(&c);
+        prop_assert!(hi >= dhi - 1e-12 && hi <= dhi + slack, "{hi} vs sampled {dhi}");
+        prop_assert!(lo <= dlo + 1e-12 && lo >= dlo - slack, "{lo} vs sampled {dlo}");
+        prop_assert!((max_abs(&c) - hi.max(-lo)).abs() <= 1e-15 * hi.abs().max(lo.abs()));
+        let dense_rms = (x.iter().map(|v| v * v).sum::<f64>() / dense_n as f64).sqrt();
+        prop_assert!((rms(&c) - dense_rms).abs() <= 1e-12 * dense_rms.max(1e-300));
     }
 }

@@ -121,7 +121,7 @@ fn linearized_models_match_closed_form_frequency_responses() {
     let mut worst = 0.0f64;
     for omega in [0.3, 0.8, 1.0, 1.3, 2.5, 7.0] {
         for p in [0.2, 0.5, 0.9] {
-            // Quarter car (ERRATA.md): G = k1 + icΩ + h(iΩ)^p,
+            // Quarter car (closed form): G = k1 + icΩ + h(iΩ)^p,
             // Δ = m1 m2 Ω^4 - [kt m1 + (m1 + m2) G] Ω^2 + kt G,
             // Z1 = kt G F / Δ, Y = kt m1 Ω^2 F / Δ, Z2 = Z1 - Y.
             let w = 8.0 * omega;

@@ -13,7 +13,7 @@ fn tmp(name: &str) -> PathBuf {
     dir
 }
 
-/// (figure id, varied quantity, values) as printed in the paper's section 4 and ERRATA.md.
+/// (figure id, varied quantity, values) as printed in the paper's section 4 and its corrections.
 fn paper() -> Vec<(&'static str, Option<&'static str>, Vec<f64>)> {
     vec![
         ("fig04_harmonics", Some("harmonics"), vec![4.0, 5.0, 6.0]),
@@ -108,11 +108,11 @@ fn check_curve_files(dir: &Path, stem: &str) -> Value {
     let csv = std::fs::read_to_string(dir.join(format!("{stem}.csv")))
         .unwrap_or_else(|e| panic!("{stem}.csv: {e}"));
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("omega,stable,z1_max_abs,z1_mean,z1_amp1,z2_max_abs,z2_mean,z2_amp1,y_max_abs,y_mean,y_amp1"));
+    assert_eq!(lines.next(), Some("omega,stable,z1_max_abs,z1_mean,z1_amp1,z1_rms,z1_min,z1_max,z2_max_abs,z2_mean,z2_amp1,z2_rms,z2_min,z2_max,y_max_abs,y_mean,y_amp1,y_rms,y_min,y_max"));
     let mut rows = 0;
     for l in lines {
         let cols: Vec<&str> = l.split(',').collect();
-        assert_eq!(cols.len(), 11, "{stem}: {l}");
+        assert_eq!(cols.len(), 2 + 3 * 6, "{stem}: {l}");
         assert!(cols[1] == "true" || cols[1] == "false");
         for c in cols.iter().skip(2).chain(std::iter::once(&cols[0])) {
             c.parse::<f64>().unwrap_or_else(|_| panic!("{stem}: {c}"));
@@ -209,7 +209,10 @@ fn reference_study_runs_and_every_file_parses() {
     }
     // The half car's figures are the half car's: its columns, bounce and pitch panels.
     let csv = std::fs::read_to_string(dir.join("half_car_v20_p_0.5.csv")).unwrap();
-    assert!(csv.starts_with("omega,stable,z_max_abs,z_mean,z_amp1,theta_max_abs"), "{csv:.80}");
+    assert!(
+        csv.starts_with("omega,stable,z_max_abs,z_mean,z_amp1,z_rms,z_min,z_max,theta_max_abs"),
+        "{csv:.80}"
+    );
     let texts = svg_texts(&dir.join("half_car_v20.svg"));
     assert_eq!(texts.iter().filter(|t| *t == "p = 0.5").count(), 2, "{texts:?}");
     assert!(texts.iter().any(|t| t.contains("body pitch")), "{texts:?}");

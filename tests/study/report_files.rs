@@ -1,5 +1,5 @@
 //! The report writers on curves with known content: the closed-form linear quarter car
-//! (ERRATA.md, k3 = 0) and a synthetic S-shaped curve with two folds.
+//! (closed form, k3 = 0) and a synthetic S-shaped curve with two folds.
 
 use ihbm::report::{
     curve_csv, curve_facts, figure_svg, sweep_json, Figure, FreqUnit, Panel, Series, TimeMarker,
@@ -10,7 +10,7 @@ use ihbm::results::{
 };
 use num_complex::Complex64;
 
-/// |Z1/F| and |Y/F| of the linear quarter car (ERRATA.md), Table 1 values.
+/// |Z1/F| and |Y/F| of the linear quarter car (closed form), Table 1 values.
 fn linear_qc(omega: f64) -> (f64, f64) {
     let (m1, m2, k1, kt, c, h, p) = (240.0, 30.0, 16_000.0, 160_000.0, 1_000.0, 1_000.0, 0.5);
     let iw = Complex64::new(0.0, omega);
@@ -30,8 +30,8 @@ fn linear_curve(f: f64) -> Curve {
                 coeffs: vec![],
                 stability: Stability::Stable,
                 outputs: vec![
-                    PointOutput { max_abs: f * z1, mean: 0.0, amp1: f * z1 },
-                    PointOutput { max_abs: f * y, mean: 0.0, amp1: f * y },
+                    PointOutput::harmonic(0.0, f * z1),
+                    PointOutput::harmonic(0.0, f * y),
                 ],
                 segment: 0,
             }
@@ -67,7 +67,7 @@ fn s_curve() -> Curve {
                 param: omega(s),
                 coeffs: vec![],
                 stability: Stability::from_verdict(!(s1..s2).contains(&s)),
-                outputs: vec![PointOutput { max_abs: s, mean: 0.0, amp1: s }],
+                outputs: vec![PointOutput::harmonic(0.0, s)],
                 segment: 0,
             }
         })
@@ -76,7 +76,7 @@ fn s_curve() -> Curve {
         omega: omega(s),
         param: omega(s),
         coeffs: vec![],
-        outputs: vec![PointOutput { max_abs: s, mean: 0.0, amp1: s }],
+        outputs: vec![PointOutput::harmonic(0.0, s)],
         after: (s * n as f64) as usize,
         located: true,
     };
@@ -109,24 +109,24 @@ fn csv_has_one_row_per_point_and_round_trips_the_closed_form() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("omega,stable,z1_max_abs,z1_mean,z1_amp1,y_max_abs,y_mean,y_amp1")
+        Some("omega,stable,z1_max_abs,z1_mean,z1_amp1,z1_rms,z1_min,z1_max,y_max_abs,y_mean,y_amp1,y_rms,y_min,y_max")
     );
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), curve.points.len());
     for row in rows {
         let cols: Vec<&str> = row.split(',').collect();
-        assert_eq!(cols.len(), 8);
+        assert_eq!(cols.len(), 2 + 2 * 6);
         let w: f64 = cols[0].parse().unwrap();
         assert_eq!(cols[1], "true");
         let (z1, y) = linear_qc(w);
         assert_eq!(cols[2].parse::<f64>().unwrap(), 0.01 * z1);
-        assert_eq!(cols[5].parse::<f64>().unwrap(), 0.01 * y);
+        assert_eq!(cols[8].parse::<f64>().unwrap(), 0.01 * y);
     }
 }
 
 #[test]
 fn closed_form_matches_errata_at_8_rad_s() {
-    // Independent check of the reference used below (ERRATA.md numbers).
+    // Independent check of the reference used below (closed-form numbers).
     let (z1, y) = linear_qc(8.0);
     assert!((z1 - 2.2972768).abs() < 1e-6, "{z1}");
     assert!((y - 1.7136480).abs() < 1e-6, "{y}");
@@ -143,7 +143,7 @@ fn sweep_json_has_the_contract_fields_in_order() {
     assert_eq!(pk, ["omega", "stable", "outputs"]);
     let ok: Vec<&str> =
         p0["outputs"]["x"].as_object().unwrap().keys().map(|k| k.as_str()).collect();
-    assert_eq!(ok, ["max_abs", "mean", "amp1"]);
+    assert_eq!(ok, ["max_abs", "mean", "amp1", "rms", "min", "max"]);
     assert_eq!(v["points"].as_array().unwrap().len(), curve.points.len());
     let f0 = &v["folds"][0];
     assert_eq!(f0["omega"].as_f64().unwrap(), curve.folds[0].omega);

@@ -571,7 +571,7 @@ mod tests {
     use crate::results::{CurveStats, Fold, PointOutput};
 
     fn out(v: f64) -> Vec<PointOutput> {
-        vec![PointOutput { max_abs: v, mean: 0.0, amp1: v }]
+        vec![PointOutput::harmonic(0.0, v)]
     }
 
     /// A frequency-sweep curve of one output `x` through `(Ω, |x|, stable, segment)`.
