@@ -504,6 +504,14 @@ pub struct SimOutput {
     pub max_abs: f64,
     /// Mean over the last 10 forcing periods.
     pub mean: f64,
+    /// First-harmonic amplitude over the last 10 forcing periods.
+    pub amp1: f64,
+    /// Root mean square over the last 10 forcing periods, the mean included.
+    pub rms: f64,
+    /// Least x over the last 10 forcing periods.
+    pub min: f64,
+    /// Largest x over the last 10 forcing periods.
+    pub max: f64,
     /// `|max_abs(last 10) - max_abs(10 before)| / max_abs(last 10)`: above
     /// [`SimOutput::STEADY_DRIFT`] the run had not settled and `max_abs` is no steady
     /// value.

@@ -41,22 +41,10 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                         rec.residual_norm,
                         rec.stability
                     ))?;
-                    w(
-                        out,
-                        format_args!(
-                            "{:<10} {:>14} {:>14} {:>14} {:>14} {:>14} {:>14}\n",
-                            "output", "max_abs", "mean", "amp1", "rms", "min", "max"
-                        ),
-                    )?;
-                    for o in &rec.outputs {
-                        w(
-                            out,
-                            format_args!(
-                                "{:<10} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e}\n",
-                                o.name, o.max_abs, o.mean, o.amp1, o.rms, o.min, o.max
-                            ),
-                        )?;
-                    }
+                    let rows = rec.outputs.iter().map(|o| {
+                        (o.name.as_str(), [o.max_abs, o.mean, o.amp1, o.rms, o.min, o.max])
+                    });
+                    stats_table(out, rows)?;
                 }
             }
             if rec.converged {
@@ -222,13 +210,10 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                         "{} at Ω = {} rad/s, dt = {:.4e} s, {} periods, scheme {} (last 10 periods):\n",
                         rec.model, rec.omega, rec.dt, rec.periods, rec.scheme
                     ))?;
-                    w(out, format_args!("{:<10} {:>14} {:>14}\n", "output", "max_abs", "mean"))?;
-                    for o in &rec.outputs {
-                        w(
-                            out,
-                            format_args!("{:<10} {:>14.6e} {:>14.6e}\n", o.name, o.max_abs, o.mean),
-                        )?;
-                    }
+                    let rows = rec.outputs.iter().map(|o| {
+                        (o.name.as_str(), [o.max_abs, o.mean, o.amp1, o.rms, o.min, o.max])
+                    });
+                    stats_table(out, rows)?;
                     if let Some(why) = rec.transient_warning() {
                         w(out, format_args!("warning: {why}\n"))?;
                     }
@@ -752,6 +737,26 @@ fn interrupted(stopped: bool, curve: &Curve) -> Result<(), Failure> {
             curve.points.len()
         ),
     })
+}
+
+/// The six statistics of every output as a table (one row per output).
+fn stats_table<'a>(
+    out: &mut dyn Write,
+    rows: impl Iterator<Item = (&'a str, [f64; 6])>,
+) -> Result<(), Failure> {
+    w(out, format_args!("{:<10}", "output"))?;
+    for stat in report::STATS {
+        w(out, format_args!(" {stat:>14}"))?;
+    }
+    w(out, format_args!("\n"))?;
+    for (name, values) in rows {
+        w(out, format_args!("{name:<10}"))?;
+        for v in values {
+            w(out, format_args!(" {v:>14.6e}"))?;
+        }
+        w(out, format_args!("\n"))?;
+    }
+    Ok(())
 }
 
 /// A backbone or family that a signal stopped, its `points` written.

@@ -314,6 +314,10 @@ fn simulate(name: &str, model: &dyn DynModel, omega: f64, s: &SimSettings) -> Re
                 name: o.name.clone(),
                 max_abs: o.max_abs,
                 mean: o.mean,
+                amp1: o.amp1,
+                rms: o.rms,
+                min: o.min,
+                max: o.max,
                 drift: o.drift,
             })
             .collect(),

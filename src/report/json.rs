@@ -138,15 +138,17 @@ pub fn sweep_json(c: &Curve) -> Value {
 }
 
 /// The JSON of `simulate`: `{model, omega, dt, periods, scheme, outputs: {name:
-/// {max_abs, mean}}}`, each output with `drift` and `steady` added (whether the
-/// last two blocks of 10 periods agree to 1 %: a drifting run has no steady value),
-/// and `start_up_left` ([`crate::timedomain::StartUp::left`]).
+/// {max_abs, mean, amp1, rms, min, max}}}` (over the last 10 periods), each output
+/// with `drift` and `steady` added (whether the last two blocks of 10 periods agree
+/// to 1 %: a drifting run has no steady value), and `start_up_left`
+/// ([`crate::timedomain::StartUp::left`]).
 pub fn simulate_json(r: &SimRecord) -> Value {
     let mut outs = Map::new();
     for o in &r.outputs {
         outs.insert(
             o.name.clone(),
-            json!({ "max_abs": o.max_abs, "mean": o.mean, "drift": o.drift, "steady": o.steady() }),
+            json!({ "max_abs": o.max_abs, "mean": o.mean, "amp1": o.amp1, "rms": o.rms,
+                    "min": o.min, "max": o.max, "drift": o.drift, "steady": o.steady() }),
         );
     }
     let mut v = json!({

@@ -328,6 +328,8 @@ pub fn simulate(model: &dyn DynModel, omega: f64, opts: &SimOptions) -> Result<S
         }
     }
     let (newton_iterations, newton_max) = stepper.newton_iterations();
+    // The record's first sample is step `record_from`, at t = record_from · dt.
+    let phase = steady::Phase { start: omega * dt * record_from as f64, turn: omega * dt };
     Ok(Simulation {
         model: model.name().to_string(),
         omega,
@@ -340,7 +342,7 @@ pub fn simulate(model: &dyn DynModel, omega: f64, opts: &SimOptions) -> Result<S
         outputs: outs
             .iter()
             .zip(&tail)
-            .map(|(o, s)| steady::summarize(&o.name, s, window))
+            .map(|(o, s)| steady::summarize(&o.name, s, window, phase))
             .collect(),
         newton_iterations,
         newton_max,

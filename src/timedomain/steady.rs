@@ -1,11 +1,13 @@
-//! Steady-state statistics of a sampled output: largest |x| and mean over a window.
+//! Steady-state statistics of a sampled output over a window: largest |x|, least and
+//! largest x, mean, RMS and first-harmonic amplitude.
 //!
 //! Samples are `dt` apart. The largest |x| of the continuous signal lies between
 //! samples; the quartic through the five samples around each local maximum of |x|
 //! recovers it to `O(dt⁵)` (below 1e-9 relative at 400 steps per period, where the
 //! raw samples alone can be low by `1 - cos(π/400) ≈ 3e-5` and a parabola is off by
-//! ~5e-7 on a signal with a third harmonic). The mean is the
-//! trapezoidal average, spectrally accurate over whole periods.
+//! ~5e-7 on a signal with a third harmonic); the least and largest x likewise. The
+//! mean, the mean square and the first harmonic's projection are trapezoidal
+//! averages, spectrally accurate over whole periods.
 
 use serde::Serialize;
 
@@ -18,6 +20,15 @@ pub struct SteadyOutput {
     pub max_abs: f64,
     /// Time average over the last 10 periods.
     pub mean: f64,
+    /// Amplitude of the forcing frequency's harmonic over the last 10 periods
+    /// (`2 |⟨x e^{-iΩt}⟩|`).
+    pub amp1: f64,
+    /// Root mean square over the last 10 periods, the mean included.
+    pub rms: f64,
+    /// Least x(t) over the last 10 periods (refined as `max_abs`).
+    pub min: f64,
+    /// Largest x(t) over the last 10 periods (refined as `max_abs`).
+    pub max: f64,
     /// `|max_abs(last 10) - max_abs(10 before)| / max_abs(last 10)`: small when the run
     /// was long enough for the transient to die out (0 when both are 0).
     pub drift: f64,
@@ -34,11 +45,35 @@ pub struct SteadyOutput {
 /// assert!((max_abs(&x) - 1.0).abs() < 1e-12);
 /// ```
 pub fn max_abs(samples: &[f64]) -> f64 {
-    let mut best = samples.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    largest(samples, f64::abs).max(0.0)
+}
+
+/// The least and the largest x over `samples`, refined between samples as
+/// [`max_abs`] (`(0, 0)` for no samples).
+///
+/// ```
+/// use ihbm::timedomain::steady::extremes;
+/// let n = 400;
+/// let x: Vec<f64> = (0..=n).map(|k| 0.5 + (0.3 + k as f64 * std::f64::consts::TAU / n as f64).cos()).collect();
+/// let (lo, hi) = extremes(&x);
+/// assert!((lo + 0.5).abs() < 1e-12 && (hi - 1.5).abs() < 1e-12);
+/// ```
+pub fn extremes(samples: &[f64]) -> (f64, f64) {
+    if samples.is_empty() {
+        return (0.0, 0.0);
+    }
+    (-largest(samples, |x| -x), largest(samples, |x| x))
+}
+
+/// The largest `f(x)` over `samples` (`f` is `|x|`, `x` or `-x`), each local maximum
+/// of `f` refined by the quartic (or, next to the ends, the parabola) through the
+/// samples around it.
+fn largest(samples: &[f64], f: impl Fn(f64) -> f64) -> f64 {
+    let mut best = samples.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(f(x)));
     let n = samples.len();
     for k in 1..n.saturating_sub(1) {
         let (x0, x1, x2) = (samples[k - 1], samples[k], samples[k + 1]);
-        if x1.abs() < x0.abs() || x1.abs() < x2.abs() {
+        if f(x1) < f(x0) || f(x1) < f(x2) {
             continue;
         }
         let refined = if k >= 2 && k + 2 < n {
@@ -47,7 +82,7 @@ pub fn max_abs(samples: &[f64]) -> f64 {
             parabola_extremum(x0, x1, x2)
         };
         if let Some(v) = refined {
-            best = best.max(v.abs());
+            best = best.max(f(v));
         }
     }
     best
@@ -100,12 +135,43 @@ pub fn mean(samples: &[f64]) -> f64 {
     }
 }
 
+/// Trapezoidal average of `f(k, x_k)` over equally spaced samples (both ends included).
+fn average(samples: &[f64], f: impl Fn(usize, f64) -> f64) -> f64 {
+    match samples.len() {
+        0 => 0.0,
+        1 => f(0, samples[0]),
+        n => {
+            let inner: f64 = (1..n - 1).map(|k| f(k, samples[k])).sum();
+            (inner + 0.5 * (f(0, samples[0]) + f(n - 1, samples[n - 1]))) / (n - 1) as f64
+        }
+    }
+}
+
+/// Where the samples lie in the forcing's phase: sample `k` of the record is at
+/// `Ωt = start + k · turn`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Phase {
+    /// `Ωt` of the record's first sample.
+    pub start: f64,
+    /// `Ω dt`.
+    pub turn: f64,
+}
+
 /// Statistics of one output from the samples of the last two windows of `window`
 /// steps each (`samples.len() == 2 window + 1`, or shorter: the first block is then
-/// what remains).
-pub fn summarize(name: &str, samples: &[f64], window: usize) -> SteadyOutput {
+/// what remains); `phase` places the samples in the forcing's cycle (for `amp1`).
+pub fn summarize(name: &str, samples: &[f64], window: usize, phase: Phase) -> SteadyOutput {
     if samples.is_empty() {
-        return SteadyOutput { name: name.to_string(), max_abs: 0.0, mean: 0.0, drift: 0.0 };
+        return SteadyOutput {
+            name: name.to_string(),
+            max_abs: 0.0,
+            mean: 0.0,
+            amp1: 0.0,
+            rms: 0.0,
+            min: 0.0,
+            max: 0.0,
+            drift: 0.0,
+        };
     }
     let split = samples.len().saturating_sub(window + 1);
     let last = &samples[split..];
@@ -113,7 +179,20 @@ pub fn summarize(name: &str, samples: &[f64], window: usize) -> SteadyOutput {
     let max_last = max_abs(last);
     let max_prev = max_abs(prev);
     let drift = if max_last > 0.0 { (max_last - max_prev).abs() / max_last } else { 0.0 };
-    SteadyOutput { name: name.to_string(), max_abs: max_last, mean: mean(last), drift }
+    let angle = |k: usize| phase.start + (split + k) as f64 * phase.turn;
+    let a1 = 2.0 * average(last, |k, x| x * angle(k).cos());
+    let b1 = 2.0 * average(last, |k, x| x * angle(k).sin());
+    let (min, max) = extremes(last);
+    SteadyOutput {
+        name: name.to_string(),
+        max_abs: max_last,
+        mean: mean(last),
+        amp1: a1.hypot(b1),
+        rms: average(last, |_, x| x * x).sqrt(),
+        min,
+        max,
+        drift,
+    }
 }
 
 #[cfg(test)]
@@ -165,9 +244,31 @@ mod tests {
                 a * (std::f64::consts::PI * (k % 10) as f64 / 10.0).sin()
             })
             .collect();
-        let s = summarize("x", &x, 10);
+        let phase = Phase { start: 0.0, turn: 0.1 };
+        let s = summarize("x", &x, 10, phase);
         assert!((s.max_abs - 2.0).abs() < 1e-15);
         assert!((s.drift - 0.5).abs() < 1e-15);
-        assert_eq!(summarize("x", &[], 10).drift, 0.0);
+        assert_eq!(summarize("x", &[], 10, phase).drift, 0.0);
+    }
+
+    /// The other statistics of the known signal over its last 10 of 20 periods, the
+    /// record starting a quarter period late: its mean 0.3, first-harmonic amplitude
+    /// 1, RMS sqrt(0.3² + 1/2 + 0.4²/2) (Parseval), and its extremes as a dense
+    /// search finds them.
+    #[test]
+    fn rms_amp1_and_extremes_of_a_known_signal() {
+        let (per, t0) = (400, 0.25 * TAU);
+        let x: Vec<f64> =
+            (0..=20 * per).map(|k| signal(t0 + k as f64 * TAU / per as f64)).collect();
+        let phase = Phase { start: t0, turn: TAU / per as f64 };
+        let s = summarize("x", &x, 10 * per, phase);
+        assert!((s.mean - 0.3).abs() < 1e-14);
+        assert!((s.amp1 - 1.0).abs() < 1e-13, "{}", s.amp1);
+        assert!((s.rms - 0.67f64.sqrt()).abs() < 1e-13, "{}", s.rms);
+        let dense: Vec<f64> = (0..1_000_000).map(|k| signal(k as f64 * TAU / 1e6)).collect();
+        let (lo, hi) = dense.iter().fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        // the dense grid is within (TAU/1e6)² · max|x''| / 8 ≈ 1e-10 of the extremes
+        assert!((s.min - lo).abs() < 1e-9 && (s.max - hi).abs() < 1e-9, "{s:?} vs {lo} {hi}");
+        assert_eq!(s.max_abs, s.max.max(-s.min));
     }
 }

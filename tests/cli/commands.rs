@@ -425,12 +425,25 @@ fn simulate_json_matches_the_contract_and_the_closed_form() {
     assert_eq!(keys(&v["outputs"]), ["z1", "z2", "y"]);
     for out in ["z1", "z2", "y"] {
         // the contract's keys, then the extensions saying whether the run settled
-        assert_eq!(keys(&v["outputs"][out]), ["max_abs", "mean", "drift", "steady"]);
+        let k: Vec<&str> = keys(&v["outputs"][out]);
+        assert_eq!(k[..6], STATS);
+        assert_eq!(k[6..], ["drift", "steady"]);
         assert_eq!(v["outputs"][out]["steady"], true, "damped, 200 periods");
     }
-    let (z1, _) = linear_qc(8.0);
+    let (z1, y) = linear_qc(8.0);
     let got = v["outputs"]["z1"]["max_abs"].as_f64().unwrap();
     assert!((got - 0.01 * z1).abs() < 1e-3 * 0.01 * z1, "{got} vs {}", 0.01 * z1);
+    // The linear response is a pure harmonic of amplitude A: amp1 = A, rms = A/√2,
+    // min = -A, max = A, to the scheme's error.
+    for (out, a) in [("z1", 0.01 * z1), ("y", 0.01 * y)] {
+        let o = &v["outputs"][out];
+        let g = |k: &str| o[k].as_f64().unwrap();
+        for (got, want) in
+            [(g("amp1"), a), (g("rms"), a / 2f64.sqrt()), (g("min"), -a), (g("max"), a)]
+        {
+            assert!((got - want).abs() < 1e-3 * a, "{out}: {got} vs {want} in {o}");
+        }
+    }
     let path = tmp("sim.json");
     let o = ihbm(&[
         "simulate",
