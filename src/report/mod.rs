@@ -15,7 +15,7 @@ use crate::error::Error;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-pub use csv::{backbone_csv, curve_csv, cycles_csv, folds_csv, STATS};
+pub use csv::{backbone_csv, curve_csv, cycles_csv, folds_csv, Num, STATS};
 pub use json::{
     backbone_json, cycle_json, cycles_json, folds_json, simulate_json, solve_json, sweep_json,
 };

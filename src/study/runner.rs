@@ -724,12 +724,12 @@ fn write_figure<'a>(
         for r in &td_rows {
             csv.push_str(&format!(
                 "{},{},{},{},{},{}\n",
-                r.omega,
+                report::Num(r.omega),
                 r.scheme,
                 r.output,
-                r.ihbm,
-                r.sim,
-                r.rel_diff()
+                report::Num(r.ihbm),
+                report::Num(r.sim),
+                report::Num(r.rel_diff())
             ));
         }
         write(dir, format!("{}_timedomain.csv", p.id), &csv, out);
