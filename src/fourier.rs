@@ -265,7 +265,7 @@ impl MaxAbs {
             &mut vals_heap
         };
         self.grid_values(coeffs, vals);
-        self.polished(coeffs, vals, f64::abs)
+        self.polished(coeffs, vals, f64::abs).0
     }
 
     /// The least and the largest `x(θ)` of `coeffs` (counts as in [`MaxAbs::eval`],
@@ -279,20 +279,30 @@ impl MaxAbs {
     /// assert!((lo + 4.5).abs() < 1e-12 && (hi - 5.5).abs() < 1e-12);
     /// ```
     pub fn range(&self, coeffs: &[f64]) -> (f64, f64) {
+        let e = self.extremes(coeffs);
+        (e.min, e.max)
+    }
+
+    /// The least and largest `x(θ)` and the instants `θ` where they are reached, from
+    /// one tabulation ([`MaxAbs::range`] with the places): `max_abs` is the larger of
+    /// `max` and `-min`, and the derivative of an extreme with respect to the
+    /// coefficients is the basis at its instant.
+    pub fn extremes(&self, coeffs: &[f64]) -> Extremes {
+        let flat = |v: f64| Extremes { min: v, max: v, at_min: 0.0, at_max: 0.0 };
         if !coeffs.iter().all(|c| c.is_finite()) {
             let s: f64 = coeffs.iter().map(|c| c.abs()).sum();
-            return (-s, s);
+            return Extremes { min: -s, ..flat(s) };
         }
         let n = self.n;
         if coeffs.len() != 2 * n + 1 {
             let other = coeffs.len().saturating_sub(1) / 2;
             return match coeffs.len() {
-                0 => (0.0, 0.0),
-                _ => MaxAbs::new(other).range(&coeffs[..2 * other + 1]),
+                0 => flat(0.0),
+                _ => MaxAbs::new(other).extremes(&coeffs[..2 * other + 1]),
             };
         }
         if n == 0 {
-            return (coeffs[0], coeffs[0]);
+            return flat(coeffs[0]);
         }
         let grid = 8 * (n + 1);
         let mut vals = [0.0f64; 8 * 17];
@@ -304,9 +314,9 @@ impl MaxAbs {
             &mut vals_heap
         };
         self.grid_values(coeffs, vals);
-        let hi = self.polished(coeffs, vals, |x| x);
-        let lo = -self.polished(coeffs, vals, |x| -x);
-        (lo, hi)
+        let (max, at_max) = self.polished(coeffs, vals, |x| x);
+        let (neg, at_min) = self.polished(coeffs, vals, |x| -x);
+        Extremes { min: -neg, max, at_min, at_max }
     }
 
     /// `x(θ_g)` at every grid point, into `vals` (`8(N + 1)` of them).
@@ -320,13 +330,18 @@ impl MaxAbs {
         }
     }
 
-    /// The largest `f(x(θ))` (`f` is `|x|`, `x` or `-x`): the grid's best, and every
-    /// grid peak of `f` that could still beat it polished by Newton on `x'`.
-    fn polished(&self, coeffs: &[f64], vals: &[f64], f: impl Fn(f64) -> f64) -> f64 {
+    /// The largest `f(x(θ))` (`f` is `|x|`, `x` or `-x`) and where: the grid's best,
+    /// and every grid peak of `f` that could still beat it polished by Newton on `x'`.
+    fn polished(&self, coeffs: &[f64], vals: &[f64], f: impl Fn(f64) -> f64) -> (f64, f64) {
         let n = self.n;
         let grid = vals.len();
         let h = 2.0 * PI / grid as f64;
-        let mut best = vals.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(f(v)));
+        let (mut best, mut at) = (f64::NEG_INFINITY, 0.0);
+        for (j, &v) in vals.iter().enumerate() {
+            if f(v) > best {
+                (best, at) = (f(v), j as f64 * h);
+            }
+        }
         let curvature: f64 =
             (1..=n).map(|k| (k * k) as f64 * (coeffs[k].abs() + coeffs[n + k].abs())).sum();
         let slack = curvature * h * h / 8.0;
@@ -356,9 +371,37 @@ impl MaxAbs {
                     break;
                 }
             }
-            best = best.max(f(eval(coeffs, theta)));
+            let v = f(eval(coeffs, theta));
+            if v > best {
+                (best, at) = (v, theta);
+            }
         }
-        best
+        (best, at)
+    }
+}
+
+/// The least and largest value of a truncated Fourier series over one period, and
+/// where ([`MaxAbs::extremes`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extremes {
+    /// The least `x(θ)`.
+    pub min: f64,
+    /// The largest `x(θ)`.
+    pub max: f64,
+    /// A `θ` where `min` is reached.
+    pub at_min: f64,
+    /// A `θ` where `max` is reached.
+    pub at_max: f64,
+}
+
+impl Extremes {
+    /// The largest `|x(θ)|`, and the sign of `x` and the `θ` where it is reached.
+    pub fn max_abs(&self) -> (f64, f64, f64) {
+        if self.max >= -self.min {
+            (self.max, 1.0, self.at_max)
+        } else {
+            (-self.min, -1.0, self.at_min)
+        }
     }
 }
 

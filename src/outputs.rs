@@ -15,6 +15,9 @@ pub struct OutputEval {
     peaks: MaxAbs,
     buf: Vec<f64>,
     outputs: Vec<(String, Vec<(usize, f64)>)>,
+    /// Per output, of the solution [`OutputEval::points`] saw last: the sign of `x`
+    /// and the instant where `|x|` is largest.
+    argmax: Vec<(f64, f64)>,
 }
 
 impl OutputEval {
@@ -24,6 +27,7 @@ impl OutputEval {
             harmonics,
             peaks: MaxAbs::new(harmonics),
             buf: vec![0.0; coeff_len(harmonics)],
+            argmax: vec![(0.0, 0.0); model.outputs().len()],
             outputs: model
                 .outputs()
                 .iter()
@@ -38,27 +42,66 @@ impl OutputEval {
         &self.buf
     }
 
+    /// The rate of change of output `k`'s `max_abs` as the solution `coeffs` moves
+    /// along `dcoeffs`: `sign x(θ*) · dx(θ*)` at the instant `θ*` of the maximum
+    /// (the envelope theorem; where the maximum is reached at two instants at once the
+    /// derivative does not exist, and this is one of the one-sided ones).
+    pub fn slope(&mut self, coeffs: &[f64], dcoeffs: &[f64], k: usize) -> f64 {
+        let terms = &self.outputs[k].1;
+        crate::model::combine_blocks(terms, coeffs, &mut self.buf);
+        let (_, sign, theta) = self.peaks.extremes(&self.buf).max_abs();
+        crate::model::combine_blocks(terms, dcoeffs, &mut self.buf);
+        sign * crate::fourier::eval(&self.buf, theta)
+    }
+
+    /// The number of outputs.
+    pub fn len(&self) -> usize {
+        self.outputs.len()
+    }
+
+    /// Whether the model has no outputs.
+    pub fn is_empty(&self) -> bool {
+        self.outputs.is_empty()
+    }
+
     /// The statistics of every output ([`PointOutput`]), into `out`.
     pub fn points(&mut self, coeffs: &[f64], out: &mut Vec<PointOutput>) {
         out.clear();
         for k in 0..self.outputs.len() {
             self.coeffs(coeffs, k);
-            out.push(self.stats());
+            let (p, sign, theta) = self.stats();
+            self.argmax[k] = (sign, theta);
+            out.push(p);
         }
     }
 
-    /// The statistics of the output in the buffer.
-    fn stats(&self) -> PointOutput {
+    /// The rates of change of every output's `max_abs` as the solution last given to
+    /// [`OutputEval::points`] moves along `dcoeffs`, into `out` (as [`OutputEval::slope`],
+    /// at the instants of the maxima found there: one series evaluation each).
+    pub fn slopes(&mut self, dcoeffs: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        for k in 0..self.outputs.len() {
+            crate::model::combine_blocks(&self.outputs[k].1, dcoeffs, &mut self.buf);
+            let (sign, theta) = self.argmax[k];
+            out.push(sign * crate::fourier::eval(&self.buf, theta));
+        }
+    }
+
+    /// The statistics of the output in the buffer, the sign of `x` and the instant
+    /// where `|x|` is largest.
+    fn stats(&self) -> (PointOutput, f64, f64) {
         let (nh, x) = (self.harmonics, &self.buf);
-        let (min, max) = self.peaks.range(x);
-        PointOutput {
-            max_abs: self.peaks.eval(x),
+        let e = self.peaks.extremes(x);
+        let (max_abs, sign, theta) = e.max_abs();
+        let p = PointOutput {
+            max_abs,
             mean: x[0],
             amp1: x[1].hypot(x[nh + 1]),
             rms: rms(x),
-            min,
-            max,
-        }
+            min: e.min,
+            max: e.max,
+        };
+        (p, sign, theta)
     }
 
     /// The full summaries (with every harmonic's coefficients) of every output.
@@ -67,7 +110,7 @@ impl OutputEval {
         (0..self.outputs.len())
             .map(|k| {
                 self.coeffs(coeffs, k);
-                let p = self.stats();
+                let (p, ..) = self.stats();
                 let x = &self.buf;
                 let mut sin = vec![0.0];
                 sin.extend_from_slice(&x[nh + 1..]);

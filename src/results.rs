@@ -221,6 +221,26 @@ pub struct Fold {
     pub located: bool,
 }
 
+/// A local maximum of one output's `max_abs` along a curve (a resonance peak),
+/// located to 1e-8 relative in the continuation parameter: where the derivative of
+/// `max_abs` along the curve changes sign from rising to falling.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Peak {
+    /// The output (index in [`Curve::output_names`]).
+    pub output: usize,
+    /// Forcing frequency there.
+    pub omega: f64,
+    /// Continuation parameter there (equal to `omega` for a frequency sweep).
+    pub param: f64,
+    /// The output's `max_abs` there.
+    pub value: f64,
+    /// It lies between `points[after]` and `points[after + 1]`.
+    pub after: usize,
+    /// Whether the location converged (`false`: the corrector failed on the way, and
+    /// the place is the best estimate inside the step).
+    pub located: bool,
+}
+
 /// Direction of a slow sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -305,6 +325,9 @@ pub struct Curve {
     pub folds: Vec<Fold>,
     /// Jumps of slow up and down sweeps.
     pub jumps: Vec<Jump>,
+    /// The local maxima of every output's `max_abs` along the curve, in arc-length
+    /// order.
+    pub peaks: Vec<Peak>,
     /// The pieces of the curve.
     pub segments: Vec<Segment>,
     /// Solver counters.
@@ -335,6 +358,10 @@ impl Curve {
         self.bifurcations.extend(other.bifurcations.into_iter().map(|mut b| {
             b.after += points;
             b
+        }));
+        self.peaks.extend(other.peaks.into_iter().map(|mut p| {
+            p.after += points;
+            p
         }));
         self.jumps.extend(other.jumps);
         self.stability_checked &= other.stability_checked;

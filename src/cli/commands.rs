@@ -548,6 +548,17 @@ fn write_curve(
             ),
         )?;
     }
+    for k in &curve.peaks {
+        let output = curve.output_names.get(k.output).map_or("?", String::as_str);
+        let how = if k.located { "" } else { " (not located: the corrector failed on the way)" };
+        w(
+            out,
+            format_args!(
+                "  peak of {output} at {p} = {:.8}{unit}: max_abs {:.6e}{how}\n",
+                k.param, k.value
+            ),
+        )?;
+    }
     for s in &curve.segments {
         w(out, format_args!("  segment {p} = {} -> {}{unit}: {}\n", s.from, s.to, s.ended))?;
     }

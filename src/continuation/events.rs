@@ -3,7 +3,7 @@
 //! the [`Observer`]s that watch a run and may stop it.
 
 use crate::results::{
-    Bifurcation, Curve, CurvePoint, CurveStats, End, Fold, Jump, Parameter, Segment,
+    Bifurcation, Curve, CurvePoint, CurveStats, End, Fold, Jump, Parameter, Peak, Segment,
 };
 
 /// What one [`Continuation::step`](super::Continuation::step) produced. Indices point into the [`Trace`].
@@ -15,6 +15,9 @@ pub enum Event {
     Fold(usize),
     /// A change of stability that is not a fold: `trace.bifurcations[i]`.
     Bifurcation(usize),
+    /// A local maximum of an output's `max_abs` was located: `trace.peaks[i]`
+    /// (reported before the point after it).
+    Peak(usize),
     /// A segment ended: `trace.segments[i]` says why.
     SegmentEnd(usize),
     /// Nothing more to trace; [`Continuation::finish`](super::Continuation::finish) gives the curve. Every later
@@ -74,6 +77,8 @@ pub struct Trace {
     pub folds: Vec<Fold>,
     /// Changes of stability that are not folds.
     pub bifurcations: Vec<Bifurcation>,
+    /// Located local maxima of the outputs' `max_abs`.
+    pub peaks: Vec<Peak>,
     /// Ended segments.
     pub segments: Vec<Segment>,
     /// Counters so far.
@@ -101,6 +106,7 @@ impl Trace {
         tail(&self.points, &mut copy.points);
         tail(&self.folds, &mut copy.folds);
         tail(&self.bifurcations, &mut copy.bifurcations);
+        tail(&self.peaks, &mut copy.peaks);
         tail(&self.segments, &mut copy.segments);
         copy.stats = self.stats;
     }
@@ -144,6 +150,7 @@ impl Trace {
             stability_checked,
             folds: self.folds,
             jumps,
+            peaks: self.peaks,
             segments: self.segments,
             stats: self.stats,
             bifurcations: self.bifurcations,

@@ -7,8 +7,35 @@ use super::events::Event;
 use super::jumps::Landing;
 use super::stepper::{Continuation, StabilityChange};
 use super::tracer::{dot, unit};
-use crate::results::{Fold, Jump};
+use crate::results::{Fold, Jump, Peak};
 use crate::stability::{Hill, StabilityOptions};
+
+/// The cubic Hermite interpolant of a step of the curve, from `(y0, t0)` to
+/// `(y1, t1)` (unit tangents, scaled by the chord's length), at `σ ∈ [0, 1]`.
+struct Hermite<'a> {
+    y0: &'a [f64],
+    t0: &'a [f64],
+    y1: &'a [f64],
+    t1: &'a [f64],
+    chord: f64,
+}
+
+impl Hermite<'_> {
+    /// The point at `σ` and the direction of the interpolant there (not normalised).
+    fn at(&self, s: f64, y: &mut [f64], t: &mut [f64]) {
+        let (s2, s3) = (s * s, s * s * s);
+        let (h00, h10, h01, h11) =
+            (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, -2.0 * s3 + 3.0 * s2, s3 - s2);
+        let (d00, d10, d01, d11) =
+            (6.0 * s2 - 6.0 * s, 3.0 * s2 - 4.0 * s + 1.0, -6.0 * s2 + 6.0 * s, 3.0 * s2 - 2.0 * s);
+        let l = self.chord;
+        for i in 0..y.len() {
+            let (a, b, c, d) = (self.y0[i], l * self.t0[i], self.y1[i], l * self.t1[i]);
+            y[i] = h00 * a + h10 * b + h01 * c + h11 * d;
+            t[i] = d00 * a + d10 * b + d01 * c + d11 * d;
+        }
+    }
+}
 
 /// A sign-change bracket `[a, b]` of a function along the step, narrowed by regula
 /// falsi with the Illinois modification (halve the stale end's value when the same
@@ -159,6 +186,119 @@ impl Continuation<'_> {
         let (omega, param, coeffs, outputs) = self.point_at(&y);
         self.trace.folds.push(Fold { omega, param, coeffs, outputs, after: last, located });
         self.queue_event(Event::Fold(self.trace.folds.len() - 1));
+    }
+
+    /// The rate of change of output `k`'s `max_abs` along the curve at `y`, moving
+    /// along `t` (only its sign and its zero matter: coefficients are scaled).
+    fn peak_slope(&mut self, y: &[f64], t: &[f64], k: usize) -> f64 {
+        let n = self.tr.n;
+        let mut c = vec![0.0; n];
+        let mut dc = vec![0.0; n];
+        self.tr.coeffs(y, &mut c);
+        self.tr.coeffs(t, &mut dc);
+        self.out.slope(&c, &dc, k)
+    }
+
+    /// Locate and report every output's local maximum of `max_abs` inside the step
+    /// from `nodes[last]` (direction `dirv`) to the point `y` with tangent `t`, whose
+    /// slopes of `max_abs` are `slopes`: where a slope goes from rising to falling.
+    ///
+    /// The zero is found first on the cubic Hermite interpolant of the step (no
+    /// corrector: its points are off the curve by `O(h⁴)`), then refined by secant
+    /// steps on points corrected back onto the curve, each predicted along the last
+    /// one's tangent, until the last move is below 1e-6 of the step: usually one
+    /// correction, two corrector iterations.
+    pub(super) fn locate_peaks(
+        &mut self,
+        last: usize,
+        dirv: &[f64],
+        (y, t): (&[f64], &[f64]),
+        slopes: &[f64],
+    ) {
+        let n = self.tr.n;
+        let (y0, t0) = (self.nodes[last].y.clone(), self.nodes[last].t.clone());
+        let chord = y.iter().zip(&y0).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+        let hermite = Hermite { y0: &y0, t0: &t0, y1: y, t1: t, chord };
+        let (mut yp, mut tp) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+        for (k, &f1) in slopes.iter().enumerate() {
+            let f0 = self.nodes[last].slopes.get(k).copied().unwrap_or(f64::NAN);
+            if !(f0 > 0.0 && f1 < 0.0) {
+                continue;
+            }
+            // On the interpolant: σ in [0, 1].
+            let mut bracket = Illinois::new(1.0, f0, f1);
+            for _ in 0..60 {
+                let sg = bracket.next();
+                hermite.at(sg, &mut yp, &mut tp);
+                let f = self.peak_slope(&yp, &tp, k);
+                if f == 0.0 || bracket.width() < 1e-12 {
+                    break;
+                }
+                bracket.update(sg, f);
+            }
+            hermite.at(bracket.next().clamp(0.0, 1.0), &mut yp, &mut tp);
+            // The interpolant's rate of change of the slope along `dirv`, for the
+            // first refinement.
+            let rate = {
+                let (mut ya, mut ta) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+                let (mut yb, mut tb) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+                let s = bracket.next().clamp(0.0, 1.0);
+                hermite.at((s - 1e-6).max(0.0), &mut ya, &mut ta);
+                hermite.at((s + 1e-6).min(1.0), &mut yb, &mut tb);
+                let df = self.peak_slope(&yb, &tb, k) - self.peak_slope(&ya, &ta, k);
+                df / (dot(dirv, &yb) - dot(dirv, &ya))
+            };
+            // On the curve: the position along `dirv` of each trial, and the secant.
+            let mut target = dot(dirv, &yp);
+            let mut prev: Option<(f64, f64)> = None;
+            let mut best: Option<Vec<f64>> = None;
+            let mut located = false;
+            let step = dot(dirv, y) - dot(dirv, &y0);
+            for _ in 0..8 {
+                if self.tr.locate_exact(&mut yp, dirv, target).is_err() {
+                    break;
+                }
+                self.tr.tangent(&mut tp);
+                let f = self.peak_slope(&yp, &tp, k);
+                best = Some(yp.clone());
+                let next = match prev {
+                    Some((c1, g1)) if f != g1 => target - f * (target - c1) / (f - g1),
+                    _ if rate != 0.0 && rate.is_finite() => target - f / rate,
+                    _ => target,
+                };
+                if f == 0.0 {
+                    located = true;
+                    break;
+                }
+                prev = Some((target, f));
+                // Along the tangent to the next estimate: within O(Δ²) of the curve.
+                let along = dot(dirv, &tp);
+                if along.abs() < 1e-12 {
+                    break;
+                }
+                let d = (next - target) / along;
+                for i in 0..=n {
+                    yp[i] += d * tp[i];
+                }
+                target = next;
+                // A last move below 1e-6 of the step: the estimate is within about
+                // 1e-8 of the step of the zero (the rate is known to a percent or
+                // better), and the tangent's point within 1e-12 of the curve; it
+                // needs no corrector.
+                if (d * along).abs() < 1e-6 * step.abs() {
+                    best = Some(yp.clone());
+                    located = true;
+                    break;
+                }
+            }
+            // Not located: the peak is there (the slope changed sign between two
+            // converged points); report the best converged trial, or the point before.
+            let at = best.unwrap_or_else(|| y0.clone());
+            let (omega, param, _, outputs) = self.point_at(&at);
+            let value = outputs.get(k).map_or(f64::NAN, |o| o.max_abs);
+            self.trace.peaks.push(Peak { output: k, omega, param, value, after: last, located });
+            self.queue_event(Event::Peak(self.trace.peaks.len() - 1));
+        }
     }
 
     /// Locate where `growth` (largest Re λ minus the tolerance) changes sign inside

@@ -41,6 +41,9 @@ pub(super) struct Node {
     pub growth: f64,
     /// How the leading exponent would cross (for naming a stability change).
     pub crossing: Option<Crossing>,
+    /// Per output, the rate of change of its `max_abs` along the tangent (a peak lies
+    /// where it goes from positive to negative).
+    pub slopes: Vec<f64>,
 }
 
 /// Stability along the run: the tracking analysis and, created when first needed, a
@@ -254,6 +257,7 @@ impl<'m> Continuation<'m> {
                 points: Vec::new(),
                 folds: Vec::new(),
                 bifurcations: Vec::new(),
+                peaks: Vec::new(),
                 segments: Vec::new(),
                 stats: CurveStats::default(),
             },
@@ -675,13 +679,20 @@ impl<'m> Continuation<'m> {
     /// of stability inside the step that reached it.
     fn accept(&mut self, y: Vec<f64>, t: Vec<f64>, border: Vec<f64>, h: f64, segment: usize) {
         let (omega, param, coeffs, outputs) = self.point_at(&y);
+        let mut slopes = Vec::new();
+        let mut dc = vec![0.0; self.tr.n];
+        self.tr.coeffs(&t, &mut dc);
+        self.out.slopes(&dc, &mut slopes);
         let i = self.nodes.len();
+        if i > 0 && self.nodes[i - 1].segment == segment {
+            self.locate_peaks(i - 1, &border, (&y, &t), &slopes);
+        }
         // Exponents are tracked from point to point, except across a segment start or
         // a fold (there the full analysis runs).
         let continues = i > 0
             && self.nodes[i - 1].segment == segment
             && !self.trace.folds.iter().any(|f| f.after + 1 == i);
-        let mut node = Node { y, t, border, h, segment, growth: f64::NAN, crossing: None };
+        let mut node = Node { y, t, border, h, segment, growth: f64::NAN, crossing: None, slopes };
         let stability = match &mut self.stab {
             None => Stability::Unknown(Unknown::NotChecked),
             Some(st) => {

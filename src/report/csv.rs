@@ -65,7 +65,7 @@ fn stats_row(s: &mut String, outs: &[PointOutput]) {
 ///     output_names: vec!["x".into()],
 ///     points: vec![CurvePoint { omega: 2.0, param: 2.0, coeffs: vec![], stability: Stability::Stable,
 ///         outputs: vec![PointOutput::harmonic(0.0, 0.5)], segment: 0 }],
-///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
+///     stability_checked: true, folds: vec![], jumps: vec![], peaks: vec![], segments: vec![], stats: CurveStats::default(),
 ///     bifurcations: vec![], convergence: None };
 /// assert_eq!(ihbm::report::curve_csv(&curve),
 ///            format!("omega,stable,x_max_abs,x_mean,x_amp1,x_rms,x_min,x_max\n\

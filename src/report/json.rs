@@ -59,12 +59,14 @@ pub fn solve_json(r: &SolveRecord) -> Value {
 }
 
 /// The JSON of `sweep`: `{model, harmonics, points, folds, jumps, segments}` plus
-/// `parameter`, `stats`, `bifurcations` and `stability_checked` (`false` when the
+/// `parameter`, `stats`, `bifurcations`, `peaks` (`[{omega, output, value, located}]`,
+/// the local maxima of each output's `max_abs` along the curve) and
+/// `stability_checked` (`false` when the
 /// sweep skipped stability, so that no point's `"stable": true` is taken for a
 /// verdict; these follow the first six, and the objects inside the arrays keep
 /// exactly the keys listed here),
 /// and `convergence` when a harmonic-convergence study was run. For a parameter
-/// sweep (`parameter` not `"omega"`) every point and fold also carries `param`, the
+/// sweep (`parameter` not `"omega"`) every point, fold and peak also carries `param`, the
 /// parameter's value (`omega` stays the fixed frequency); so do jumps (`param` where
 /// they happen) and segments (`from_param`/`to_param`, while `from_omega`/`to_omega`
 /// are the fixed frequency).
@@ -124,11 +126,24 @@ pub fn sweep_json(c: &Curve) -> Value {
             v
         })
         .collect();
+    let peaks: Vec<Value> = c
+        .peaks
+        .iter()
+        .map(|k| {
+            let mut v = json!({ "omega": k.omega, "output": c.output_names.get(k.output),
+                    "value": k.value, "located": k.located });
+            if by_param {
+                v["param"] = json!(k.param);
+            }
+            v
+        })
+        .collect();
     let mut v = json!({
         "model": c.model, "harmonics": c.harmonics, "points": points,
         "folds": folds, "jumps": jumps, "segments": segments,
         "parameter": c.parameter.name(), "stats": c.stats,
         "bifurcations": c.all_bifurcations(),
+        "peaks": peaks,
         "stability_checked": c.stability_checked,
     });
     if let Some(conv) = &c.convergence {

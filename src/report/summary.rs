@@ -26,7 +26,7 @@ pub struct CurveFacts {
 ///     outputs: vec![PointOutput::harmonic(0.0, a)], segment: 0 };
 /// let curve = Curve { model: "m".into(), harmonics: 1, parameter: Parameter::Omega,
 ///     output_names: vec!["x".into()], points: vec![pt(1.0, 1.0), pt(2.0, 3.0), pt(9.0, 5.0)],
-///     stability_checked: true, folds: vec![], jumps: vec![], segments: vec![], stats: CurveStats::default(),
+///     stability_checked: true, folds: vec![], jumps: vec![], peaks: vec![], segments: vec![], stats: CurveStats::default(),
 ///     bifurcations: vec![], convergence: None };
 /// let all = ihbm::report::curve_facts(&curve, "x", None).unwrap();
 /// assert_eq!((all.peak, all.peak_omega), (5.0, 9.0));

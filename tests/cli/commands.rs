@@ -391,6 +391,14 @@ fn sweep_writes_contract_json_csv_and_plot() {
     for s in v["segments"].as_array().unwrap() {
         assert_eq!(keys(s), ["from_omega", "to_omega", "ended"]);
     }
+    // One resonance peak, above every point of the curve (the closed form's check is
+    // in the continuation tests).
+    let peaks = v["peaks"].as_array().unwrap();
+    assert_eq!(peaks.len(), 1, "{}", v["peaks"]);
+    assert_eq!(keys(&peaks[0]), ["omega", "output", "value", "located"]);
+    assert_eq!((&peaks[0]["output"], &peaks[0]["located"]), (&"x".into(), &true.into()));
+    let top = peaks[0]["value"].as_f64().unwrap();
+    assert!(points.iter().all(|p| p["outputs"]["x"]["max_abs"].as_f64().unwrap() <= top));
     // The middle branch between the folds is unstable (a saddle).
     assert!(points.iter().any(|p| p["stable"] == false));
     let csv = std::fs::read_to_string(&csv).unwrap();

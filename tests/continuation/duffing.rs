@@ -323,14 +323,28 @@ fn stepping_gives_the_sweep_and_a_stop_keeps_a_prefix() {
         events.push(e);
     }
     let (mut points, mut folds, mut segments) = (Vec::new(), Vec::new(), Vec::new());
+    let mut peaks = Vec::new();
+    // The first point reported after an event, with only events of its step between.
+    let next_point = |rest: &[Event]| {
+        rest.iter().skip(1).find_map(|e| match e {
+            Event::Point(i) => Some(*i),
+            Event::Fold(_) | Event::Peak(_) => None,
+            _ => Some(usize::MAX),
+        })
+    };
     for (k, e) in events.iter().enumerate() {
         match *e {
             Event::Point(i) => points.push(i),
             Event::Fold(i) => {
-                // reported just before the point after it
+                // reported before the point after it (with a peak in the same step)
                 let after = run.trace().folds[i].after;
-                assert_eq!(events.get(k + 1), Some(&Event::Point(after + 1)), "{events:?}");
+                assert_eq!(next_point(&events[k..]), Some(after + 1), "{events:?}");
                 folds.push(i);
+            }
+            Event::Peak(i) => {
+                let after = run.trace().peaks[i].after;
+                assert_eq!(next_point(&events[k..]), Some(after + 1), "{events:?}");
+                peaks.push(i);
             }
             Event::Bifurcation(_) => panic!("the Duffing curve changes stability at folds only"),
             Event::SegmentEnd(i) => segments.push(i),
@@ -342,6 +356,7 @@ fn stepping_gives_the_sweep_and_a_stop_keeps_a_prefix() {
     assert_eq!(stepped, whole);
     assert_eq!(points, (0..whole.points.len()).collect::<Vec<_>>());
     assert_eq!(folds, (0..whole.folds.len()).collect::<Vec<_>>());
+    assert_eq!(peaks, (0..whole.peaks.len()).collect::<Vec<_>>());
     assert_eq!(segments, (0..whole.segments.len()).collect::<Vec<_>>());
 
     let mut run = Continuation::omega(&model, 0.5, 2.5, &opts).unwrap();
@@ -391,5 +406,57 @@ fn a_copy_updated_at_every_event_is_the_trace_and_ends_as_finish_would() {
         for (a, b) in kept.jumps.iter().zip(&finished.jumps) {
             assert_eq!((a.direction, a.at, &a.output), (b.direction, b.at, &b.output));
         }
+    }
+}
+
+/// The resonance peak of `m x'' + c x' + k x + k3 x³ = F cos Ωt` with one harmonic, in
+/// closed form: along the curve `G(A, Ω) = (k - mΩ² + ¾k3A²)² A² + (cΩA)² - F² = 0` the
+/// amplitude is largest where `∂G/∂Ω = 0`, that is `k - mΩ² + ¾k3A² = c²/(2m)`; then
+/// `c²A² (c²/(4m²) + Ω²) = F²` fixes A (bisection on this increasing function of A).
+/// `k3 = 0` is the linear resonance, `Ω² = k/m - c²/(2m²)`, exact at any N.
+fn one_harmonic_peak(m: f64, c: f64, k: f64, k3: f64, f: f64) -> (f64, f64) {
+    let w2 = |a: f64| (k + 0.75 * k3 * a * a - c * c / (2.0 * m)) / m;
+    let g = |a: f64| c * c * a * a * (c * c / (4.0 * m * m) + w2(a)) - f * f;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while g(hi) < 0.0 {
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let a = 0.5 * (lo + hi);
+    (w2(a).sqrt(), a)
+}
+
+/// Every sweep reports its resonance peaks, located to 1e-8: the hardening Duffing's
+/// top (just before its upper fold, on the stable branch) and the linear oscillator's
+/// (N = 5: the response is one harmonic), against the closed form; a sweep that
+/// stops before the top has no peak.
+#[test]
+fn resonance_peaks_are_located_against_the_closed_form() {
+    for (k3, harmonics) in [(1.0, 1), (0.0, 5)] {
+        let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3, F: 0.2 };
+        let opts = SweepOptions { harmonics, ..Default::default() };
+        let curve = sweep(&model, 0.5, 2.5, &opts).unwrap();
+        let (w, a) = one_harmonic_peak(1.0, 0.05, 1.0, k3, 0.2);
+        assert_eq!(curve.peaks.len(), 1, "k3 = {k3}: {:?}", curve.peaks);
+        let p = &curve.peaks[0];
+        assert!(p.located && p.output == 0);
+        assert!((p.omega - w).abs() < 1e-8 * w, "k3 = {k3}: Ω {} vs {w}", p.omega);
+        assert!((p.value - a).abs() < 1e-8 * a, "k3 = {k3}: A {} vs {a}", p.value);
+        // it lies between the points around it, and above both
+        let (l, r) = (&curve.points[p.after], &curve.points[p.after + 1]);
+        assert!(p.value >= l.outputs[0].max_abs && p.value >= r.outputs[0].max_abs);
+        if k3 > 0.0 {
+            // before the upper fold, on the upper branch
+            assert!(p.omega < curve.folds[0].omega && p.after <= curve.folds[0].after);
+        }
+        let short = sweep(&model, 0.5, 0.9 * w, &opts).unwrap();
+        assert!(short.peaks.is_empty(), "{:?}", short.peaks);
     }
 }

@@ -34,6 +34,10 @@ fn summary(c: &Curve) -> Value {
             "from": r(j.from, 5), "to": r(j.to, 3)
         })).collect::<Vec<_>>(),
         "unstable_points": c.points.iter().filter(|p| !p.stability.is_stable()).count(),
+        "located_peaks": c.peaks.iter().map(|p| json!({
+            "output": c.output_names[p.output], "omega": r(p.omega, 8), "value": r(p.value, 6),
+            "located": p.located
+        })).collect::<Vec<_>>(),
         "peak": c.output_names.iter().enumerate().map(|(k, n)| json!({
             n.as_str(): r(c.points.iter().map(|p| p.outputs[k].max_abs).fold(0.0, f64::max), 5)
         })).collect::<Vec<_>>(),

@@ -33,6 +33,7 @@ pub fn cycles_svg(f: &CycleFamily, title: &str) -> Result<String, Error> {
         stability_checked: true,
         folds: vec![],
         jumps: vec![],
+        peaks: vec![],
         segments: vec![],
         stats: CurveStats::default(),
         bifurcations: vec![],

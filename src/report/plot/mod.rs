@@ -595,6 +595,7 @@ mod tests {
             stability_checked: true,
             folds,
             jumps: vec![],
+            peaks: vec![],
             segments: vec![],
             stats: CurveStats::default(),
             bifurcations: vec![],
