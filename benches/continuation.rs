@@ -1,5 +1,6 @@
 //! The whole quarter-car curve, Ω from 1 to 100 rad/s, N = 5: with Hill stability at
-//! every point (the goal: about 1 ms on one core), and without it; one
+//! every point (the goal: about 1 ms on one core), and without it (and
+//! without its resonance peaks); one
 //! stability analysis in full vs tracked from a neighbouring point; and a family of
 //! curves, one after the other and in parallel.
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -23,6 +24,11 @@ fn quarter_car_curve(c: &mut Criterion) {
     });
     g.bench_function("quarter_car_1_100_N5_no_stability", |b| {
         b.iter(|| sweep(black_box(&car), 1.0, 100.0, &without).expect("curve"))
+    });
+    // What locating the five resonance peaks costs.
+    let bare = SweepOptions { peaks: false, ..without.clone() };
+    g.bench_function("quarter_car_1_100_N5_no_stability_no_peaks", |b| {
+        b.iter(|| sweep(black_box(&car), 1.0, 100.0, &bare).expect("curve"))
     });
     g.finish();
 }

@@ -254,18 +254,7 @@ impl MaxAbs {
         if n == 0 {
             return coeffs[0].abs();
         }
-        let grid = 8 * (n + 1);
-        // on the stack up to N = 16 (zeroing a larger array costs more than the work)
-        let mut vals = [0.0f64; 8 * 17];
-        let mut vals_heap = Vec::new();
-        let vals: &mut [f64] = if grid <= vals.len() {
-            &mut vals[..grid]
-        } else {
-            vals_heap.resize(grid, 0.0);
-            &mut vals_heap
-        };
-        self.grid_values(coeffs, vals);
-        self.polished(coeffs, vals, f64::abs).0
+        self.tabulated(coeffs, |vals| self.polished(coeffs, vals, f64::abs).0)
     }
 
     /// The least and the largest `x(θ)` of `coeffs` (counts as in [`MaxAbs::eval`],
@@ -304,23 +293,25 @@ impl MaxAbs {
         if n == 0 {
             return flat(coeffs[0]);
         }
-        let grid = 8 * (n + 1);
-        let mut vals = [0.0f64; 8 * 17];
-        let mut vals_heap = Vec::new();
-        let vals: &mut [f64] = if grid <= vals.len() {
-            &mut vals[..grid]
-        } else {
-            vals_heap.resize(grid, 0.0);
-            &mut vals_heap
-        };
-        self.grid_values(coeffs, vals);
-        let (max, at_max) = self.polished(coeffs, vals, |x| x);
-        let (neg, at_min) = self.polished(coeffs, vals, |x| -x);
-        Extremes { min: -neg, max, at_min, at_max }
+        self.tabulated(coeffs, |vals| {
+            let (max, at_max) = self.polished(coeffs, vals, |x| x);
+            let (neg, at_min) = self.polished(coeffs, vals, |x| -x);
+            Extremes { min: -neg, max, at_min, at_max }
+        })
     }
 
-    /// `x(θ_g)` at every grid point, into `vals` (`8(N + 1)` of them).
-    fn grid_values(&self, coeffs: &[f64], vals: &mut [f64]) {
+    /// `f` of `x(θ_g)` at every grid point (`8(N + 1)` of them): on the stack up to
+    /// N = 16 (zeroing a larger array costs more than the work).
+    fn tabulated<R>(&self, coeffs: &[f64], f: impl FnOnce(&[f64]) -> R) -> R {
+        let grid = 8 * (self.n + 1);
+        let mut stack = [0.0f64; 8 * 17];
+        let mut heap = Vec::new();
+        let vals: &mut [f64] = if grid <= stack.len() {
+            &mut stack[..grid]
+        } else {
+            heap.resize(grid, 0.0);
+            &mut heap
+        };
         let grid = vals.len();
         vals.fill(coeffs[0]);
         for (&c, col) in coeffs[1..].iter().zip(self.table.chunks_exact(grid)) {
@@ -328,6 +319,7 @@ impl MaxAbs {
                 *v += c * t;
             }
         }
+        f(vals)
     }
 
     /// The largest `f(x(θ))` (`f` is `|x|`, `x` or `-x`) and where: the grid's best,

@@ -32,6 +32,20 @@ pub struct OutputSummary {
     pub sin: Vec<f64>,
 }
 
+impl OutputSummary {
+    /// Its statistics without the harmonics.
+    pub fn stats(&self) -> PointOutput {
+        PointOutput {
+            max_abs: self.max_abs,
+            mean: self.mean,
+            amp1: self.amp1,
+            rms: self.rms,
+            min: self.min,
+            max: self.max,
+        }
+    }
+}
+
 /// The per-point summary of one output on a curve: statistics of its truncated
 /// Fourier series over one period.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

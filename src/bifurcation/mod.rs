@@ -430,6 +430,8 @@ impl<'m> FoldContinuation<'m> {
         }
         let mut sweep_opts = opts.sweep.clone();
         sweep_opts.convergence = None;
+        // Only the folds (or stability changes) of these sweeps are used.
+        sweep_opts.peaks = false;
         sweep_opts.stability = match opts.boundary {
             // folds do not depend on stability; period doubling is a change of it
             Boundary::Fold => None,

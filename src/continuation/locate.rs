@@ -225,13 +225,13 @@ impl Continuation<'_> {
             if !(f0 > 0.0 && f1 < 0.0) {
                 continue;
             }
-            // On the interpolant: σ in [0, 1].
+            // On the interpolant: σ in [0, 1], no closer than its own error.
             let mut bracket = Illinois::new(1.0, f0, f1);
             for _ in 0..60 {
                 let sg = bracket.next();
                 hermite.at(sg, &mut yp, &mut tp);
                 let f = self.peak_slope(&yp, &tp, k);
-                if f == 0.0 || bracket.width() < 1e-12 {
+                if f == 0.0 || bracket.width() < 1e-7 {
                     break;
                 }
                 bracket.update(sg, f);

@@ -223,6 +223,11 @@ pub struct SweepOptions {
     /// period-doubled branch). With `period` > 1 the continuation runs in `ω = Ω/period`
     /// and the harmonics of `ω` ([`Balance::with_period`](crate::balance::Balance::with_period)).
     pub period: usize,
+    /// Locate the resonance peaks ([`Curve::peaks`]: every local maximum of an
+    /// output's `max_abs` along the curve). Each costs about six corrector
+    /// iterations; `false` skips them (the fold analyses' sweeps, which need folds
+    /// only). The command line, studies and Python always locate them.
+    pub peaks: bool,
 }
 
 impl SweepOptions {
@@ -249,6 +254,7 @@ impl Default for SweepOptions {
             stability: Some(StabilityOptions::default()),
             convergence: None,
             period: 1,
+            peaks: true,
         }
     }
 }

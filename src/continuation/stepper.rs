@@ -684,7 +684,7 @@ impl<'m> Continuation<'m> {
         self.tr.coeffs(&t, &mut dc);
         self.out.slopes(&dc, &mut slopes);
         let i = self.nodes.len();
-        if i > 0 && self.nodes[i - 1].segment == segment {
+        if self.opts.peaks && i > 0 && self.nodes[i - 1].segment == segment {
             self.locate_peaks(i - 1, &border, (&y, &t), &slopes);
         }
         // Exponents are tracked from point to point, except across a segment start or

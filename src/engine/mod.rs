@@ -307,20 +307,7 @@ fn simulate(name: &str, model: &dyn DynModel, omega: f64, s: &SimSettings) -> Re
         dt: sim.dt,
         periods: sim.periods,
         scheme: s.scheme.name().to_string(),
-        outputs: sim
-            .outputs
-            .iter()
-            .map(|o| SimOutput {
-                name: o.name.clone(),
-                max_abs: o.max_abs,
-                mean: o.mean,
-                amp1: o.amp1,
-                rms: o.rms,
-                min: o.min,
-                max: o.max,
-                drift: o.drift,
-            })
-            .collect(),
+        outputs: sim.outputs.iter().map(SimOutput::from).collect(),
         start_up: sim.start_up,
     })
 }

@@ -25,15 +25,7 @@ fn point_outputs(names: &[String], outs: &[PointOutput]) -> Value {
 fn summaries(outs: &[OutputSummary]) -> Value {
     let mut m = Map::new();
     for o in outs {
-        let p = PointOutput {
-            max_abs: o.max_abs,
-            mean: o.mean,
-            amp1: o.amp1,
-            rms: o.rms,
-            min: o.min,
-            max: o.max,
-        };
-        let mut v = stats(&p);
+        let mut v = stats(&o.stats());
         v["cos"] = json!(o.cos);
         v["sin"] = json!(o.sin);
         m.insert(o.name.clone(), v);

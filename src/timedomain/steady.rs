@@ -34,6 +34,21 @@ pub struct SteadyOutput {
     pub drift: f64,
 }
 
+impl From<&SteadyOutput> for crate::results::SimOutput {
+    fn from(o: &SteadyOutput) -> Self {
+        crate::results::SimOutput {
+            name: o.name.clone(),
+            max_abs: o.max_abs,
+            mean: o.mean,
+            amp1: o.amp1,
+            rms: o.rms,
+            min: o.min,
+            max: o.max,
+            drift: o.drift,
+        }
+    }
+}
+
 /// Largest |x| over `samples` (equally spaced, both ends included), refined between
 /// samples at each local maximum of |x| by the quartic through the five samples
 /// around it (error `O(dt⁵)`; a parabola through three is used next to the ends).

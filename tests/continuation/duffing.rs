@@ -460,3 +460,17 @@ fn resonance_peaks_are_located_against_the_closed_form() {
         assert!(short.peaks.is_empty(), "{:?}", short.peaks);
     }
 }
+
+/// Locating the peaks changes nothing else: without them (`peaks: false`) the curve
+/// is the same point for point, at fewer corrector iterations.
+#[test]
+fn skipping_the_peaks_leaves_the_curve_as_it_is() {
+    let model = Duffing { m: 1.0, c: 0.05, k: 1.0, k3: 1.0, F: 0.2 };
+    let with = sweep(&model, 0.5, 2.5, &one_harmonic_opts()).unwrap();
+    let opts = SweepOptions { peaks: false, ..one_harmonic_opts() };
+    let without = sweep(&model, 0.5, 2.5, &opts).unwrap();
+    assert_eq!((with.peaks.len(), without.peaks.len()), (1, 0));
+    assert_eq!(with.points, without.points);
+    assert_eq!((with.folds, with.jumps), (without.folds, without.jumps));
+    assert!(with.stats.corrector_iterations > without.stats.corrector_iterations);
+}
