@@ -14,8 +14,9 @@ def plot(result, ax=None, output=None, *, label=None):
       against the swept parameter; stable points solid, unstable dashed, points
       without a verdict dotted; one line per segment and verdict, so the pieces of a
       curve (a runaway branch and the sweep back from the other end) are never joined;
-      folds as circles, each jump of a slow sweep as a dotted arrow (``^`` up, ``v``
-      down) from the amplitude it leaves to the one it lands on;
+      folds as circles, resonance peaks as crosses, each jump of a slow sweep as a
+      dotted arrow (``^`` up, ``v`` down) from the amplitude it leaves to the one it
+      lands on;
     - fold curves (:meth:`Model.folds`): each curve in the (Ω, parameter) plane, the
       cusps as diamonds (``output`` is not used);
     - a backbone (:meth:`Model.backbone`): max|``output``| against Ω, styled by
@@ -23,7 +24,8 @@ def plot(result, ax=None, output=None, *, label=None):
 
     ``output`` defaults to the first output (a backbone's: the one it was continued
     in). ``label`` labels the curve in a legend. Artists carry a ``gid``
-    (``"curve"``, ``"folds"``, ``"jump"``, ``"cusps"``) so they can be found again.
+    (``"curve"``, ``"folds"``, ``"peaks"``, ``"jump"``, ``"cusps"``) so they can be
+    found again.
     Needs matplotlib.
     """
     try:
@@ -97,6 +99,11 @@ def _sweep(ax, c, output, label):
     if folds:
         ax.plot([f[0] for f in folds], [f[1] for f in folds], linestyle="none", marker="o",
                 color=color, markerfacecolor="none", gid="folds")
+    peaks = [(k["param"] if by_param else k["omega"], k["value"])
+             for k in c.get("peaks", []) if k["output"] == output]
+    if peaks:
+        ax.plot([k[0] for k in peaks], [k[1] for k in peaks], linestyle="none", marker="x",
+                color=color, gid="peaks")
     for j in c["jumps"]:
         if j["output"] != output:
             continue

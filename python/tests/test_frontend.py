@@ -223,6 +223,12 @@ def test_plot_draws_one_line_per_segment_and_verdict_with_folds_and_jumps(plt):
     jumps = lines(ax, "jump")
     assert len(jumps) == len(c["jumps"]) == 2
     assert sorted(j.get_marker() for j in jumps) == ["^", "v"]
+    # the resonance peak, where the sweep JSON places it, above every point
+    (peaks,) = lines(ax, "peaks")
+    assert len(c["peaks"]) >= 1
+    assert np.array_equal(peaks.get_xdata(), [k["omega"] for k in c["peaks"]])
+    assert np.array_equal(peaks.get_ydata(), [k["value"] for k in c["peaks"]])
+    assert max(peaks.get_ydata()) >= max(c["columns"]["x_max_abs"])
     assert ax.get_ylabel() == "max |x|"
 
 
