@@ -220,6 +220,7 @@ impl Continuation<'_> {
         let chord = y.iter().zip(&y0).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
         let hermite = Hermite { y0: &y0, t0: &t0, y1: y, t1: t, chord };
         let (mut yp, mut tp) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+        let (mut yq, mut tq) = (vec![0.0; n + 1], vec![0.0; n + 1]);
         for (k, &f1) in slopes.iter().enumerate() {
             let f0 = self.nodes[last].slopes.get(k).copied().unwrap_or(f64::NAN);
             if !(f0 > 0.0 && f1 < 0.0) {
@@ -236,18 +237,16 @@ impl Continuation<'_> {
                 }
                 bracket.update(sg, f);
             }
-            hermite.at(bracket.next().clamp(0.0, 1.0), &mut yp, &mut tp);
-            // The interpolant's rate of change of the slope along `dirv`, for the
-            // first refinement.
+            let s0 = bracket.next().clamp(0.0, 1.0);
+            // The interpolant's rate of change of the slope along `dirv` at `s0`, for
+            // the first refinement.
             let rate = {
-                let (mut ya, mut ta) = (vec![0.0; n + 1], vec![0.0; n + 1]);
-                let (mut yb, mut tb) = (vec![0.0; n + 1], vec![0.0; n + 1]);
-                let s = bracket.next().clamp(0.0, 1.0);
-                hermite.at((s - 1e-6).max(0.0), &mut ya, &mut ta);
-                hermite.at((s + 1e-6).min(1.0), &mut yb, &mut tb);
-                let df = self.peak_slope(&yb, &tb, k) - self.peak_slope(&ya, &ta, k);
-                df / (dot(dirv, &yb) - dot(dirv, &ya))
+                hermite.at((s0 - 1e-6).max(0.0), &mut yp, &mut tp);
+                hermite.at((s0 + 1e-6).min(1.0), &mut yq, &mut tq);
+                let df = self.peak_slope(&yq, &tq, k) - self.peak_slope(&yp, &tp, k);
+                df / (dot(dirv, &yq) - dot(dirv, &yp))
             };
+            hermite.at(s0, &mut yp, &mut tp);
             // On the curve: the position along `dirv` of each trial, and the secant.
             let mut target = dot(dirv, &yp);
             let mut prev: Option<(f64, f64)> = None;

@@ -679,10 +679,13 @@ impl<'m> Continuation<'m> {
     /// of stability inside the step that reached it.
     fn accept(&mut self, y: Vec<f64>, t: Vec<f64>, border: Vec<f64>, h: f64, segment: usize) {
         let (omega, param, coeffs, outputs) = self.point_at(&y);
+        // The slopes of the outputs' max_abs, for finding peaks (none when not asked).
         let mut slopes = Vec::new();
-        let mut dc = vec![0.0; self.tr.n];
-        self.tr.coeffs(&t, &mut dc);
-        self.out.slopes(&dc, &mut slopes);
+        if self.opts.peaks {
+            let mut dc = vec![0.0; self.tr.n];
+            self.tr.coeffs(&t, &mut dc);
+            self.out.slopes(&dc, &mut slopes);
+        }
         let i = self.nodes.len();
         if self.opts.peaks && i > 0 && self.nodes[i - 1].segment == segment {
             self.locate_peaks(i - 1, &border, (&y, &t), &slopes);

@@ -373,10 +373,9 @@ impl Analysis {
     ) -> Result<Outcome> {
         let opts = self.options(names)?;
         let opts = || opts.clone().unwrap_or_default();
-        let name = model.name().to_string();
         Ok(match self {
             Analysis::Solve { omega, settings } => {
-                Outcome::Solved(super::solve(&name, model, *omega, settings)?)
+                Outcome::Solved(super::solve(model, *omega, settings)?)
             }
             Analysis::Sweep { from, to, .. } => {
                 let mut obs = |e: &Event, t: &Trace| watch.watch(&Progress::Curve(e, t));
@@ -435,7 +434,7 @@ impl Analysis {
                 Outcome::Cycles(crate::backbone::cycles_with(model, opts, &mut obs)?)
             }
             Analysis::Simulate { omega, settings } => {
-                Outcome::Simulated(super::simulate(&name, model, *omega, settings)?)
+                Outcome::Simulated(super::simulate(model, *omega, settings)?)
             }
             Analysis::Compare { omega, sim, harmonics } => {
                 Outcome::Compared(super::compare(model, *omega, sim, *harmonics))

@@ -114,7 +114,7 @@ impl ArgNames {
 /// Solve at one frequency from the linearized guess (checked by
 /// [`analysis::Analysis::check`]). A Newton failure is not an error here: the record
 /// carries `converged: false` and the last iterate.
-fn solve(name: &str, model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
+fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
     let opts = SolveOptions { harmonics: s.harmonics, ..SolveOptions::default() };
     let mut failure = None;
     let (coeffs, converged, iterations, residual_norm) =
@@ -136,7 +136,7 @@ fn solve(name: &str, model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Res
         };
     let stability = stability(model, omega, s.harmonics, &coeffs, converged);
     Ok(SolveRecord {
-        model: name.to_string(),
+        model: model.name().to_string(),
         omega,
         harmonics: s.harmonics,
         converged,
@@ -299,10 +299,10 @@ pub fn backbone_overlays(
 }
 
 /// Integrate from rest and report the steady statistics of every output.
-fn simulate(name: &str, model: &dyn DynModel, omega: f64, s: &SimSettings) -> Result<SimRecord> {
+fn simulate(model: &dyn DynModel, omega: f64, s: &SimSettings) -> Result<SimRecord> {
     let sim = timedomain::simulate(model, omega, &s.options())?;
     Ok(SimRecord {
-        model: name.to_string(),
+        model: model.name().to_string(),
         omega,
         dt: sim.dt,
         periods: sim.periods,

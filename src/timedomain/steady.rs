@@ -140,14 +140,7 @@ fn quartic_extremum(f: &[f64]) -> Option<f64> {
 
 /// Trapezoidal mean of equally spaced samples (both ends included).
 pub fn mean(samples: &[f64]) -> f64 {
-    match samples.len() {
-        0 => 0.0,
-        1 => samples[0],
-        n => {
-            let inner: f64 = samples[1..n - 1].iter().sum();
-            (inner + 0.5 * (samples[0] + samples[n - 1])) / (n - 1) as f64
-        }
-    }
+    average(samples, |_, x| x)
 }
 
 /// Trapezoidal average of `f(k, x_k)` over equally spaced samples (both ends included).
