@@ -8,8 +8,8 @@
 use crate::balance::{check_inputs, linearized_on, Balance};
 use crate::error::{Error, IterationRecord, Result};
 use crate::linalg::DenseLu;
-use crate::model::DynModel;
-use crate::outputs::OutputEval;
+use crate::model::{DynModel, Model};
+use crate::outputs::{At, OutputEval};
 use crate::results::OutputSummary;
 
 /// Options of the Newton corrector.
@@ -49,6 +49,8 @@ pub struct Solution {
     pub omega: f64,
     /// Number of harmonics N.
     pub harmonics: usize,
+    /// Forcing periods per solution period ([`SolveOptions::period`]).
+    pub period: usize,
     /// Fourier coefficients, `[a0, a1..aN, b1..bN]` per DOF.
     pub coeffs: Vec<f64>,
     /// Newton iterations taken.
@@ -193,31 +195,34 @@ pub fn solve(
     let mut lu = DenseLu::new(len);
     let (iterations, residual_norm, history) =
         newton(&mut hb, &mut lu, &mut a, omega, opts, scale)?;
-    Ok(Solution { omega, harmonics: opts.harmonics, coeffs: a, iterations, residual_norm, history })
+    Ok(Solution {
+        omega,
+        harmonics: opts.harmonics,
+        period: opts.period,
+        coeffs: a,
+        iterations,
+        residual_norm,
+        history,
+    })
 }
 
-/// The coefficient vector (`2N + 1`) of output `output` of `model`.
-pub fn output_coeffs(
-    model: &dyn DynModel,
-    coeffs: &[f64],
-    harmonics: usize,
-    output: usize,
-) -> Vec<f64> {
-    OutputEval::new(model, harmonics).coeffs(coeffs, output).to_vec()
+/// The coefficient vector (`2N + 1`) of output `output` of the solution `coeffs` at
+/// `at`.
+pub fn output_coeffs(at: &At, coeffs: &[f64], harmonics: usize, output: usize) -> Vec<f64> {
+    OutputEval::new(at.model, harmonics, at.period).coeffs(at, coeffs, output).to_vec()
 }
 
-/// Summaries (`max_abs`, mean, first-harmonic amplitude, coefficients) of every output.
-pub fn output_summaries(
-    model: &dyn DynModel,
-    coeffs: &[f64],
-    harmonics: usize,
-) -> Vec<OutputSummary> {
-    OutputEval::new(model, harmonics).summaries(coeffs)
+/// Summaries (`max_abs`, mean, first-harmonic amplitude, RMS, extremes, coefficients)
+/// of every output of the solution `coeffs` at `at`.
+pub fn output_summaries(at: &At, coeffs: &[f64], harmonics: usize) -> Vec<OutputSummary> {
+    OutputEval::new(at.model, harmonics, at.period).summaries(at, coeffs)
 }
 
 impl Solution {
     /// Summaries of every output of `model` (the model this solution came from).
     pub fn outputs(&self, model: &dyn DynModel) -> Vec<OutputSummary> {
-        output_summaries(model, &self.coeffs, self.harmonics)
+        let params = model.param_values();
+        let at = At { model, params: &params, omega: self.omega, period: self.period };
+        output_summaries(&at, &self.coeffs, self.harmonics)
     }
 }

@@ -79,6 +79,21 @@ pub fn model_sample_count(model: &dyn DynModel, harmonics: usize, period: usize)
     )
 }
 
+/// The alias-free sample count of `model`'s expression outputs
+/// ([`Model::output_signals`](crate::model::Model::output_signals)) at `harmonics`
+/// harmonics of `Ω / period`: [`model_sample_count`] with the outputs' degree
+/// ([`Model::output_degree`](crate::model::Model::output_degree)) in place of the
+/// residual's.
+pub fn output_sample_count(model: &dyn DynModel, harmonics: usize, period: usize) -> usize {
+    let period = period.max(1);
+    samples(
+        model.output_degree(),
+        harmonics,
+        model.max_forcing_harmonic().saturating_mul(period),
+        model.parametric_harmonic().saturating_mul(period),
+    )
+}
+
 /// `M >= max((d + 1) N + k_p + 1, N + k_f + 1, 2N + 1)`, rounded up to a fast size.
 fn samples(degree: usize, harmonics: usize, max_forcing: usize, parametric: usize) -> usize {
     // Saturating: an absurd N must not wrap around into a small sample count.
@@ -410,6 +425,7 @@ pub fn rms(coeffs: &[f64]) -> f64 {
 }
 
 /// FFT plans and buffers for one harmonic count and sample count.
+#[derive(Clone)]
 pub struct Fourier {
     n: usize,
     m: usize,

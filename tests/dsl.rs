@@ -23,6 +23,8 @@ mod model_text;
 mod models;
 #[path = "dsl/nonlinear.rs"]
 mod nonlinear;
+#[path = "dsl/outputs.rs"]
+mod outputs;
 #[path = "dsl/parametric.rs"]
 mod parametric;
 #[path = "dsl/runtime.rs"]

@@ -23,7 +23,7 @@ mod tree;
 
 pub use shape::ModelShape;
 pub use syntax::show;
-pub use tree::{Alias, Analysis, Check, Func, Node, OrderKey, SignalKey, Terms, Trig};
+pub use tree::{Alias, Analysis, Check, Func, Node, OrderKey, OutputDef, SignalKey, Terms, Trig};
 
 use crate::parse::ModelDef;
 use diag::err;
@@ -57,9 +57,17 @@ pub fn analyze(def: &ModelDef) -> syn::Result<Analysis> {
         );
     }
     let equations = def.equations.iter().map(|eq| lower.equation(eq)).collect::<Result<_, _>>()?;
-    let outputs = outputs::outputs(def, &lower.linear())?;
+    let outputs = outputs::outputs(def, &mut lower)?;
     let lower::Lowered { signals, aliases, checks } = lower.finish();
-    let mut a = Analysis { signals, aliases, equations, outputs, checks: Vec::new() };
+    let mut a = Analysis {
+        signals,
+        aliases,
+        equations,
+        outputs: outputs.outputs,
+        output_signals: outputs.signals,
+        output_exprs: outputs.exprs,
+        checks: Vec::new(),
+    };
     compact::compact(&mut a);
     // Only what the residual evaluates is checked, each text once.
     for (alias, check) in checks {

@@ -5,7 +5,7 @@
 mod check;
 mod residual;
 
-use ihbm_dsl::analyze::{Analysis, OrderKey};
+use ihbm_dsl::analyze::{Analysis, OrderKey, OutputDef, SignalKey};
 use ihbm_dsl::parse::{DomainDecl, ModelDef};
 use ihbm_dsl::{equation_text, kebab};
 use proc_macro2::{Literal, TokenStream};
@@ -21,6 +21,7 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
     let metadata = metadata(def, a, &model_name, &eq_text);
     let params = param_access(def, &model_name);
     let residual = residual::residual(a);
+    let output_values = residual::output_values(a);
     let names: Vec<String> = def.params.iter().map(|p| p.name.to_string()).collect();
     let check = check::check_coefficients(&a.checks, &names);
     quote! {
@@ -31,6 +32,7 @@ pub fn generate(def: &ModelDef, a: &Analysis) -> TokenStream {
             #metadata
             #params
             #residual
+            #output_values
             #check
         }
     }
@@ -173,6 +175,16 @@ fn terms(t: &[(usize, f64)]) -> TokenStream {
     quote!(::std::borrow::Cow::Borrowed(&[#(#pairs),*]))
 }
 
+/// `::ihbm::model::Signal { .. }` for `s`.
+fn signal(s: &SignalKey) -> TokenStream {
+    let t = terms(&s.terms);
+    let order = match s.order {
+        OrderKey::Int(n) => quote!(::ihbm::model::Order::Int(#n)),
+        OrderKey::Param(i) => quote!(::ihbm::model::Order::Param(#i)),
+    };
+    quote!(::ihbm::model::Signal { terms: #t, order: #order })
+}
+
 /// Name, description, DOFs, signals, outputs, equations and the model's shape.
 fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) -> TokenStream {
     let description = &def.doc;
@@ -180,18 +192,19 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         let d = d.to_string();
         quote!(::std::borrow::Cow::Borrowed(#d))
     });
-    let signals = a.signals.iter().map(|s| {
-        let t = terms(&s.terms);
-        let order = match s.order {
-            OrderKey::Int(n) => quote!(::ihbm::model::Order::Int(#n)),
-            OrderKey::Param(i) => quote!(::ihbm::model::Order::Param(#i)),
+    let signals = a.signals.iter().map(signal);
+    let output_signals = a.output_signals.iter().map(signal);
+    let outputs = a.outputs.iter().map(|(name, def)| {
+        let kind = match def {
+            OutputDef::Dofs(t) => {
+                let t = terms(t);
+                quote!(::ihbm::model::OutputKind::Dofs(#t))
+            }
+            OutputDef::Expression(i) => quote!(::ihbm::model::OutputKind::Expression(#i)),
         };
-        quote!(::ihbm::model::Signal { terms: #t, order: #order })
+        quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), kind: #kind })
     });
-    let outputs = a.outputs.iter().map(|(name, t)| {
-        let t = terms(t);
-        quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), terms: #t })
-    });
+    let output_degree = a.output_degree() as usize;
     let shape = a.shape();
     let degree = shape.degree as usize;
     // An unforced model reports 1, as the trait does by default.
@@ -216,6 +229,13 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         fn outputs(&self) -> &[::ihbm::model::Output] {
             const __OUTPUTS: &[::ihbm::model::Output] = &[#(#outputs),*];
             __OUTPUTS
+        }
+        fn output_signals(&self) -> &[::ihbm::model::Signal] {
+            const __OUTPUT_SIGNALS: &[::ihbm::model::Signal] = &[#(#output_signals),*];
+            __OUTPUT_SIGNALS
+        }
+        fn output_degree(&self) -> usize {
+            #output_degree
         }
         fn equations(&self) -> &[::ihbm::model::Text] {
             const __EQUATIONS: &[::ihbm::model::Text] =

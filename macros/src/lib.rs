@@ -30,7 +30,7 @@ use proc_macro::TokenStream;
 ///         equations {                 // one `lhs = rhs;` per DOF
 ///             m * D(x, 2) + c * v + k * x + k3 * x.powi(3) + h * D(x, p) = F * cos(omega * t);
 ///         }
-///         outputs { x }               // DOFs, aliases, or `name = linear combination`
+///         outputs { x, v, acc = D(x, 2) } // DOFs, aliases, or `name = expression`
 ///     }
 /// }
 /// ```
@@ -48,13 +48,17 @@ use proc_macro::TokenStream;
 ///   `.powf(q)`, and `sqrt`, `exp`, `ln`, `sin`, `cos`, `tan`, `abs`, written `f(e)` or
 ///   `e.f()` (an unbalance `m * e * omega.powi(2) * cos(omega * t)`, a delayed road
 ///   input `F * cos(omega * tau) * cos(omega * t)`). A function never takes a DOF or
-///   forcing; inside `D(e, n)` and outputs coefficients stay products of parameters,
-///   literals and powers of `omega`. The generated `Model::check_coefficients` names a
+///   forcing; inside `D(e, n)` coefficients stay products of parameters, literals and
+///   powers of `omega`. The generated `Model::check_coefficients` names a
 ///   coefficient that is NaN or infinite where the solvers evaluate it;
 /// - forcing is `cos(k * omega * t)` / `sin(k * omega * t)` with `k` a positive integer
 ///   literal (`k *` optional), multiplied by coefficients, or by DOF terms (parametric
 ///   excitation, `k * (1.0 + eps * cos(2 * omega * t)) * x`; one harmonic per product,
 ///   counted in `Model::parametric_harmonic`);
+/// - outputs are DOFs, aliases, or `name = expression` with anything an equation may
+///   hold (an acceleration `D(x, 2)`, a force with the forcing in it); a combination of
+///   DOFs with literal coefficients is combined exactly, anything else is evaluated on
+///   the transform's time grid (`Model::output_values`);
 /// - `omega`, `t` and `D` are reserved names; every name is declared once.
 ///
 /// Anything else is a compile error spanned on the offending code, saying what is

@@ -14,7 +14,7 @@ use super::{Backbone, BackboneContinuation, BackboneOptions, End, Goal};
 use crate::balance::Balance;
 use crate::error::{Error, Result};
 use crate::model::{DynModel, Model};
-use crate::outputs::OutputEval;
+use crate::outputs::{At, OutputEval};
 use crate::results::{OutputSummary, Stability, Unknown};
 use crate::stability::{Hill, StabilityOptions};
 
@@ -108,7 +108,9 @@ pub fn cycle(model: &dyn DynModel, opts: &CycleOptions) -> Result<Cycle> {
         });
     }
     let coeffs = last.coeffs.clone();
-    let outputs = OutputEval::new(model, opts.harmonics).summaries(&coeffs);
+    let params = model.param_values();
+    let at = At::model(model, &params, omega);
+    let outputs = OutputEval::new(model, opts.harmonics, 1).summaries(&at, &coeffs);
     let (stability, exponents) = match autonomous_stability(model, opts.harmonics, &coeffs, omega) {
         Ok(x) => x,
         Err(e) => (Stability::Unknown(Unknown::Failed(e.to_string())), Vec::new()),

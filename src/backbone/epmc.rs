@@ -121,6 +121,15 @@ impl<'m> Epmc<'m> {
         }
     }
 
+    /// The model's parameter values at `y` (the free one's included).
+    pub fn params_at(&self, y: &[f64]) -> Vec<f64> {
+        let mut p = self.bal.params().to_vec();
+        if let Free::Param { index, .. } = self.free {
+            p[index] = self.param(y);
+        }
+        p
+    }
+
     pub fn log_amplitude(&self, y: &[f64]) -> f64 {
         y[self.n + 2]
     }

@@ -279,7 +279,7 @@ impl<'m> CycleContinuation<'m> {
         };
         let tracer = Tracer {
             sys,
-            eval: OutputEval::new(&m0, opts.harmonics),
+            eval: OutputEval::new(&m0, opts.harmonics, 1),
             h: opts.initial_step,
             opts: bo,
             goal: Goal::Amplitude(f64::INFINITY),

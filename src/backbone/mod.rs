@@ -46,7 +46,7 @@ use crate::continuation::{Control, Observer, StepSize};
 use crate::error::{Error, Result};
 pub(crate) use crate::linearisation::{linear_mode, Linearisation};
 use crate::model::{DynModel, Model};
-use crate::outputs::OutputEval;
+use crate::outputs::{At, OutputEval};
 pub use crate::results::End;
 use crate::results::{PointOutput, Stability, Stall, Unknown};
 pub use cycle::{cycle, Cycle, CycleOptions};
@@ -332,8 +332,16 @@ impl<'m> BackboneContinuation<'m> {
             });
         }
         let shape: Vec<f64> = lm.shape.iter().map(|v| v / mnorm.sqrt()).collect();
-        let out_amp =
-            outputs[opts.output].terms.iter().map(|&(d, c)| c * shape[d]).sum::<f64>().abs();
+        // The output's first harmonic on the mode shape (its cosine part), whatever the
+        // output is.
+        let mut mode = vec![0.0; ndof * len];
+        for (d, v) in shape.iter().enumerate() {
+            mode[d * len + 1] = *v;
+        }
+        let params = model.param_values();
+        let at = At::model(model, &params, lm.omega);
+        let first = OutputEval::new(model, nh, 1).coeffs(&at, &mode, opts.output).to_vec();
+        let out_amp = first[1].hypot(first[nh + 1]);
         let scale = if out_amp > 1e-12 * shape.iter().fold(0.0f64, |m, v| m.max(v.abs())) {
             out_amp
         } else {
@@ -367,7 +375,7 @@ impl<'m> BackboneContinuation<'m> {
         sys.correct(&mut y, &eu, u0, opts.max_iter.max(LOCATE_ITER)).map_err(|why| {
             Stall::ModeStart { mode: opts.mode, omega: lm.omega, cause: Box::new(why) }
         })?;
-        let eval = OutputEval::new(model, nh);
+        let eval = OutputEval::new(model, nh, 1);
         let mut t = sys.tangent();
         if t[n + 2] < 0.0 {
             t.iter_mut().for_each(|v| *v = -*v);
@@ -496,9 +504,11 @@ struct Tracer<'m> {
 impl Tracer<'_> {
     fn point(&mut self, y: &[f64]) -> ModePoint {
         let coeffs = self.sys.coeffs(y);
-        let mut outputs = Vec::new();
-        self.eval.points(&coeffs, &mut outputs);
         let (omega, xi) = (self.sys.omega(y), self.sys.xi(y));
+        let params = self.sys.params_at(y);
+        let at = At { model: self.sys.bal.model(), params: &params, omega, period: 1 };
+        let mut outputs = Vec::new();
+        self.eval.points(&at, &coeffs, &mut outputs);
         let (stability, exponents) = match &mut self.stability {
             Some(s) => s.at(&mut self.sys.bal, &coeffs, omega, xi),
             None => (Stability::Unknown(Unknown::NotChecked), Vec::new()),

@@ -332,6 +332,12 @@ impl<'m> Balance<'m> {
         }
     }
 
+    /// The number of forcing periods a solution repeats after (1, or 2 for the
+    /// balance of a period-doubled branch): its frequency argument is `Ω / period`.
+    pub fn period(&self) -> usize {
+        self.period as usize
+    }
+
     /// The harmonic balance residual `R(A, Ω)`.
     pub fn residual(&mut self, a: &[f64], omega: f64, r: &mut [f64]) {
         self.fill_signals(a, omega);

@@ -27,7 +27,7 @@ use crate::continuation::tracer::{dot, LOCATE_ITER};
 /// `T(iω)` nearly doubly singular.
 const RESONANCE_GAP: f64 = 1e-3;
 use crate::continuation::{AmplitudeBound, SweepOptions};
-use crate::outputs::OutputEval;
+use crate::outputs::{At, OutputEval};
 use crate::results::Stall;
 
 /// What one [`FoldCurveTracer::step`] produced.
@@ -83,7 +83,7 @@ impl<'m> FoldCurveTracer<'m> {
         }
         let mut tracer = FoldCurveTracer {
             sys,
-            out: OutputEval::new(model, opts.harmonics),
+            out: OutputEval::new(model, opts.harmonics, 1),
             opts: opts.clone(),
             nodes: Vec::new(),
             points: Vec::new(),
@@ -98,15 +98,13 @@ impl<'m> FoldCurveTracer<'m> {
 
     fn point_at(&mut self, y: &[f64]) -> FoldPoint {
         let coeffs = self.sys.coeffs(y);
+        let (omega, value) = (self.sys.omega(y), self.sys.value(y));
+        let mut params = self.sys.bal.params().to_vec();
+        params[self.sys.param] = value;
+        let at = At { model: self.sys.bal.model(), params: &params, omega, period: 1 };
         let mut outputs = Vec::new();
-        self.out.points(&coeffs, &mut outputs);
-        FoldPoint {
-            omega: self.sys.omega(y),
-            value: self.sys.value(y),
-            torus_frequency: self.sys.torus_frequency(y),
-            coeffs,
-            outputs,
-        }
+        self.out.points(&at, &coeffs, &mut outputs);
+        FoldPoint { omega, value, torus_frequency: self.sys.torus_frequency(y), coeffs, outputs }
     }
 
     fn accept(&mut self, y: Vec<f64>, t: Vec<f64>) {

@@ -7,6 +7,7 @@ use super::events::Event;
 use super::jumps::Landing;
 use super::stepper::{Continuation, StabilityChange};
 use super::tracer::{dot, unit};
+use crate::outputs::{At, Direction};
 use crate::results::{Fold, Jump, Peak};
 use crate::stability::{Hill, StabilityOptions};
 
@@ -196,7 +197,16 @@ impl Continuation<'_> {
         let mut dc = vec![0.0; n];
         self.tr.coeffs(y, &mut c);
         self.tr.coeffs(t, &mut dc);
-        self.out.slope(&c, &dc, k)
+        let (domega, param) = self.tr.rates(y, t);
+        let dir = Direction { coeffs: &dc, omega: domega, param };
+        let params = self.tr.params_at(y);
+        let at = At {
+            model: self.model,
+            params: &params,
+            omega: self.tr.omega(y),
+            period: self.opts.period,
+        };
+        self.out.slope(&at, &c, &dir, k)
     }
 
     /// Locate and report every output's local maximum of `max_abs` inside the step

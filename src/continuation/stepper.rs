@@ -15,7 +15,7 @@ use super::{AmplitudeBound, Predictor, SweepOptions};
 use crate::balance::Balance;
 use crate::error::Result;
 use crate::model::{DynModel, Model};
-use crate::outputs::OutputEval;
+use crate::outputs::{At, Direction, OutputEval};
 use crate::results::{
     Bifurcation, BifurcationKind, Curve, CurvePoint, CurveStats, End, Parameter, PointOutput,
     Segment, Stability, Stall, Unknown,
@@ -108,9 +108,9 @@ pub(super) struct Branch {
 /// # Ok::<(), ihbm::Error>(())
 /// ```
 pub struct Continuation<'m> {
-    model: &'m dyn DynModel,
+    pub(super) model: &'m dyn DynModel,
     pub(super) tr: Tracer<'m>,
-    opts: SweepOptions,
+    pub(super) opts: SweepOptions,
     lo: f64,
     hi: f64,
     pub(super) nodes: Vec<Node>,
@@ -261,7 +261,7 @@ impl<'m> Continuation<'m> {
                 segments: Vec::new(),
                 stats: CurveStats::default(),
             },
-            out: OutputEval::new(model, nh),
+            out: OutputEval::new(model, nh, opts.period),
             bound,
             stab,
             state: State::Start(0),
@@ -670,9 +670,11 @@ impl<'m> Continuation<'m> {
     pub(super) fn point_at(&mut self, y: &[f64]) -> (f64, f64, Vec<f64>, Vec<PointOutput>) {
         let mut coeffs = vec![0.0; self.tr.n];
         self.tr.coeffs(y, &mut coeffs);
+        let (omega, params) = (self.tr.omega(y), self.tr.params_at(y));
+        let at = At { model: self.model, params: &params, omega, period: self.opts.period };
         let mut outputs = Vec::new();
-        self.out.points(&coeffs, &mut outputs);
-        (self.tr.omega(y), self.tr.lambda(y), coeffs, outputs)
+        self.out.points(&at, &coeffs, &mut outputs);
+        (omega, self.tr.lambda(y), coeffs, outputs)
     }
 
     /// Accept a node: the point with its outputs and stability, and a located change
@@ -684,7 +686,11 @@ impl<'m> Continuation<'m> {
         if self.opts.peaks {
             let mut dc = vec![0.0; self.tr.n];
             self.tr.coeffs(&t, &mut dc);
-            self.out.slopes(&dc, &mut slopes);
+            let (domega, param) = self.tr.rates(&y, &t);
+            let dir = Direction { coeffs: &dc, omega: domega, param };
+            let params = self.tr.params_at(&y);
+            let at = At { model: self.model, params: &params, omega, period: self.opts.period };
+            self.out.slopes(&at, &dir, &mut slopes);
         }
         let i = self.nodes.len();
         if self.opts.peaks && i > 0 && self.nodes[i - 1].segment == segment {

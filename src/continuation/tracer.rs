@@ -126,6 +126,25 @@ impl<'m> Tracer<'m> {
         }
     }
 
+    /// The model's parameter values at `y` (the continued one's included).
+    pub fn params_at(&self, y: &[f64]) -> Vec<f64> {
+        let mut p = self.bal.params().to_vec();
+        if let Axis::Param { index, .. } = self.axis {
+            p[index] = self.lambda(y);
+        }
+        p
+    }
+
+    /// How `ω` and the continued parameter change as `y` moves along `t`:
+    /// `(dω, Some((index, dθ)))` (coefficients aside, which [`Tracer::coeffs`] unscales).
+    pub fn rates(&self, y: &[f64], t: &[f64]) -> (f64, Option<(usize, f64)>) {
+        let dl = t[self.n] * self.d_lambda(y);
+        match self.axis {
+            Axis::Omega => (dl, None),
+            Axis::Param { index, .. } => (0.0, Some((index, dl))),
+        }
+    }
+
     /// Unscaled coefficients of `y`.
     pub fn coeffs(&self, y: &[f64], out: &mut [f64]) {
         for (o, &v) in out.iter_mut().zip(&y[..self.n]) {

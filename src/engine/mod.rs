@@ -143,7 +143,11 @@ fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRec
         iterations,
         residual_norm,
         stability,
-        outputs: corrector::output_summaries(model, &coeffs, s.harmonics),
+        outputs: corrector::output_summaries(
+            &crate::outputs::At::model(model, &model.param_values(), omega),
+            &coeffs,
+            s.harmonics,
+        ),
         failure,
     })
 }

@@ -52,6 +52,10 @@ pub trait DynModel: Send + Sync {
     fn dyn_signals(&self) -> &[Signal];
     /// [`Model::outputs`].
     fn dyn_outputs(&self) -> &[Output];
+    /// [`Model::output_signals`].
+    fn dyn_output_signals(&self) -> &[Signal];
+    /// [`Model::output_degree`].
+    fn dyn_output_degree(&self) -> usize;
     /// [`Model::degree`].
     fn dyn_degree(&self) -> usize;
     /// [`Model::max_forcing_harmonic`].
@@ -79,6 +83,26 @@ pub trait DynModel: Send + Sync {
     );
     /// [`Model::residual`] in hyper-dual numbers (second derivatives).
     fn residual_hyper_dual(
+        &self,
+        p: &[HyperDual64],
+        omega: HyperDual64,
+        phase: f64,
+        s: &[HyperDual64],
+        out: &mut [HyperDual64],
+    );
+    /// [`Model::output_values`] in `f64`.
+    fn output_values_f64(&self, p: &[f64], omega: f64, phase: f64, s: &[f64], out: &mut [f64]);
+    /// [`Model::output_values`] in first-order dual numbers.
+    fn output_values_dual(
+        &self,
+        p: &[Dual64],
+        omega: Dual64,
+        phase: f64,
+        s: &[Dual64],
+        out: &mut [Dual64],
+    );
+    /// [`Model::output_values`] in hyper-dual numbers.
+    fn output_values_hyper_dual(
         &self,
         p: &[HyperDual64],
         omega: HyperDual64,
@@ -118,6 +142,12 @@ impl<M: Model> DynModel for M {
     }
     fn dyn_outputs(&self) -> &[Output] {
         Model::outputs(self)
+    }
+    fn dyn_output_signals(&self) -> &[Signal] {
+        Model::output_signals(self)
+    }
+    fn dyn_output_degree(&self) -> usize {
+        Model::output_degree(self)
     }
     fn dyn_degree(&self) -> usize {
         Model::degree(self)
@@ -162,6 +192,29 @@ impl<M: Model> DynModel for M {
         out: &mut [HyperDual64],
     ) {
         Model::residual(self, p, omega, phase, s, out)
+    }
+    fn output_values_f64(&self, p: &[f64], omega: f64, phase: f64, s: &[f64], out: &mut [f64]) {
+        Model::output_values(self, p, omega, phase, s, out)
+    }
+    fn output_values_dual(
+        &self,
+        p: &[Dual64],
+        omega: Dual64,
+        phase: f64,
+        s: &[Dual64],
+        out: &mut [Dual64],
+    ) {
+        Model::output_values(self, p, omega, phase, s, out)
+    }
+    fn output_values_hyper_dual(
+        &self,
+        p: &[HyperDual64],
+        omega: HyperDual64,
+        phase: f64,
+        s: &[HyperDual64],
+        out: &mut [HyperDual64],
+    ) {
+        Model::output_values(self, p, omega, phase, s, out)
     }
     fn dyn_check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
         Model::check_coefficients(self, params, omega)
@@ -252,6 +305,12 @@ impl Model for dyn DynModel + '_ {
     fn outputs(&self) -> &[Output] {
         DynModel::dyn_outputs(self)
     }
+    fn output_signals(&self) -> &[Signal] {
+        DynModel::dyn_output_signals(self)
+    }
+    fn output_degree(&self) -> usize {
+        DynModel::dyn_output_degree(self)
+    }
     fn degree(&self) -> usize {
         DynModel::dyn_degree(self)
     }
@@ -282,6 +341,16 @@ impl Model for dyn DynModel + '_ {
         out: &mut [D],
     ) {
         D::residual_of(self, params, omega, phase, signals, out)
+    }
+    fn output_values<D: Scalar>(
+        &self,
+        params: &[D],
+        omega: D,
+        phase: f64,
+        signals: &[D],
+        out: &mut [D],
+    ) {
+        D::output_values_of(self, params, omega, phase, signals, out)
     }
     fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
         DynModel::dyn_check_coefficients(self, params, omega)
@@ -317,6 +386,12 @@ macro_rules! forward_equations {
         fn outputs(&$self) -> &[Output] {
             Model::outputs($inner)
         }
+        fn output_signals(&$self) -> &[Signal] {
+            Model::output_signals($inner)
+        }
+        fn output_degree(&$self) -> usize {
+            Model::output_degree($inner)
+        }
         fn degree(&$self) -> usize {
             Model::degree($inner)
         }
@@ -348,6 +423,16 @@ macro_rules! forward_equations {
         ) {
             Model::residual($inner, params, omega, phase, signals, out)
         }
+        fn output_values<D: Scalar>(
+            &$self,
+            params: &[D],
+            omega: D,
+            phase: f64,
+            signals: &[D],
+            out: &mut [D],
+        ) {
+            Model::output_values($inner, params, omega, phase, signals, out)
+        }
         fn check_coefficients(&$self, params: &[f64], omega: f64) -> Result<(), Error> {
             Model::check_coefficients($inner, params, omega)
         }
@@ -371,11 +456,20 @@ impl Model for BoxedModel {
     }
 }
 
-/// Each scalar type's residual method of a [`DynModel`] (public in a private module:
-/// [`Scalar`] is sealed).
+/// Each scalar type's residual and output methods of a [`DynModel`] (public in a
+/// private module: [`Scalar`] is sealed).
 pub trait Dispatch: Sized {
-    /// Call the method of `model` for this scalar type.
+    /// Call the residual method of `model` for this scalar type.
     fn residual_of(
+        model: &dyn DynModel,
+        p: &[Self],
+        omega: Self,
+        phase: f64,
+        s: &[Self],
+        out: &mut [Self],
+    );
+    /// Call the output method of `model` for this scalar type.
+    fn output_values_of(
         model: &dyn DynModel,
         p: &[Self],
         omega: Self,
@@ -396,6 +490,16 @@ impl Dispatch for f64 {
     ) {
         model.residual_f64(p, omega, phase, s, out)
     }
+    fn output_values_of(
+        model: &dyn DynModel,
+        p: &[f64],
+        omega: f64,
+        phase: f64,
+        s: &[f64],
+        out: &mut [f64],
+    ) {
+        model.output_values_f64(p, omega, phase, s, out)
+    }
 }
 
 impl Dispatch for Dual64 {
@@ -409,6 +513,16 @@ impl Dispatch for Dual64 {
     ) {
         model.residual_dual(p, omega, phase, s, out)
     }
+    fn output_values_of(
+        model: &dyn DynModel,
+        p: &[Self],
+        omega: Self,
+        phase: f64,
+        s: &[Self],
+        out: &mut [Self],
+    ) {
+        model.output_values_dual(p, omega, phase, s, out)
+    }
 }
 
 impl Dispatch for HyperDual64 {
@@ -421,5 +535,15 @@ impl Dispatch for HyperDual64 {
         out: &mut [Self],
     ) {
         model.residual_hyper_dual(p, omega, phase, s, out)
+    }
+    fn output_values_of(
+        model: &dyn DynModel,
+        p: &[Self],
+        omega: Self,
+        phase: f64,
+        s: &[Self],
+        out: &mut [Self],
+    ) {
+        model.output_values_hyper_dual(p, omega, phase, s, out)
     }
 }

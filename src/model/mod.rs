@@ -56,13 +56,38 @@ pub struct Signal {
     pub order: Order,
 }
 
-/// A named observable: a linear combination of DOFs that results report.
+/// A named observable that results report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Output {
     /// The name used in JSON, CSV and plots.
     pub name: Text,
-    /// `(dof index, coefficient)` pairs.
-    pub terms: Terms,
+    /// What it is.
+    pub kind: OutputKind,
+}
+
+/// What an [`Output`] is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OutputKind {
+    /// A linear combination of DOFs with fixed coefficients, `(dof index, coefficient)`
+    /// pairs: its Fourier coefficients are those of the DOFs combined, exactly.
+    Dofs(Terms),
+    /// Any expression of the signals in [`Model::output_signals`], the parameters, Ω
+    /// and time (an acceleration, a spring force, a tyre force that cannot pull):
+    /// result `i` of [`Model::output_values`], evaluated on the transform's time grid
+    /// and projected onto the solution's harmonics.
+    Expression(usize),
+}
+
+impl Output {
+    /// The output `name` that is the linear combination `terms` of DOFs.
+    pub fn dofs(name: impl Into<Text>, terms: impl Into<Terms>) -> Output {
+        Output { name: name.into(), kind: OutputKind::Dofs(terms.into()) }
+    }
+
+    /// The output `name` that is result `index` of [`Model::output_values`].
+    pub fn expression(name: impl Into<Text>, index: usize) -> Output {
+        Output { name: name.into(), kind: OutputKind::Expression(index) }
+    }
 }
 
 /// One end of a [`Domain`].
@@ -165,7 +190,7 @@ pub struct ParamInfo {
 /// The book's chapter "Writing your own model" builds an n-mass chain that way.
 ///
 /// ```
-/// use ihbm::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
+/// use ihbm::model::{Bound, Domain, Model, Order, Output, OutputKind, ParamInfo, Signal, Text};
 /// use num_dual::DualNum;
 /// use std::borrow::Cow::Borrowed;
 ///
@@ -202,7 +227,8 @@ pub struct ParamInfo {
 ///         S
 ///     }
 ///     fn outputs(&self) -> &[Output] {
-///         const O: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(&[(0, 1.0)]) }];
+///         const O: &[Output] =
+///             &[Output { name: Borrowed("x"), kind: OutputKind::Dofs(Borrowed(&[(0, 1.0)])) }];
 ///         O
 ///     }
 ///     fn degree(&self) -> usize { 1 }
@@ -249,6 +275,38 @@ pub trait Model: Send + Sync {
 
     /// Named observables reported in results.
     fn outputs(&self) -> &[Output];
+
+    /// The signals the expression outputs read ([`OutputKind::Expression`]), in the
+    /// order of [`Model::output_values`]'s `signals` argument: a list of its own, so
+    /// that an output reading the acceleration or a fractional derivative adds nothing
+    /// to the cost of the residual. Empty (the default) when every output is a
+    /// combination of DOFs.
+    fn output_signals(&self) -> &[Signal] {
+        &[]
+    }
+
+    /// The polynomial degree of the expression outputs in their signals (as
+    /// [`Model::degree`] for the residual): the transform that evaluates them takes
+    /// enough samples to project a product of that degree onto the harmonics without
+    /// aliasing.
+    fn output_degree(&self) -> usize {
+        1
+    }
+
+    /// Evaluate the expression outputs at one time sample, as [`Model::residual`]
+    /// evaluates the equations: `signals` are the values of [`Model::output_signals`],
+    /// `out` receives one value per [`OutputKind::Expression`] index. The default
+    /// writes nothing (a model whose outputs are all combinations of DOFs).
+    fn output_values<D: Scalar>(
+        &self,
+        params: &[D],
+        omega: D,
+        phase: f64,
+        signals: &[D],
+        out: &mut [D],
+    ) {
+        let _ = (params, omega, phase, signals, out);
+    }
 
     /// Polynomial degree of the residual in the signals (1 for a linear model, 3 for
     /// a cubic spring). Sets the alias-free sample count.

@@ -31,7 +31,7 @@ pub mod tape;
 
 use crate::error::Error;
 use crate::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
-use ihbm_dsl::analyze::OrderKey;
+use ihbm_dsl::analyze::{OrderKey, OutputDef};
 use num_dual::DualNum;
 use std::borrow::Cow::Owned;
 use std::path::Path;
@@ -68,6 +68,8 @@ pub struct RuntimeModel {
     values: Vec<f64>,
     signals: Vec<Signal>,
     outputs: Vec<Output>,
+    output_signals: Vec<Signal>,
+    output_degree: usize,
     equations: Vec<Text>,
     degree: usize,
     max_harmonic: usize,
@@ -76,6 +78,8 @@ pub struct RuntimeModel {
     reads: Vec<bool>,
     explicit_omega: bool,
     residual: Program,
+    /// The expression outputs.
+    output_program: Program,
     checks: Program,
     check_info: Vec<CheckInfo>,
 }
@@ -97,6 +101,13 @@ impl RuntimeModel {
         let (def, a) = (&checked.def, &checked.analysis);
         let shape = a.shape();
         let terms = |t: &[(usize, f64)]| -> crate::model::Terms { Owned(t.to_vec()) };
+        let signal = |s: &ihbm_dsl::analyze::SignalKey| Signal {
+            terms: terms(&s.terms),
+            order: match s.order {
+                OrderKey::Int(n) => Order::Int(n),
+                OrderKey::Param(i) => Order::Param(i),
+            },
+        };
         let check_info = a
             .checks
             .iter()
@@ -124,22 +135,17 @@ impl RuntimeModel {
                 })
                 .collect(),
             values: def.params.iter().map(|p| p.default).collect(),
-            signals: a
-                .signals
-                .iter()
-                .map(|s| Signal {
-                    terms: terms(&s.terms),
-                    order: match s.order {
-                        OrderKey::Int(n) => Order::Int(n),
-                        OrderKey::Param(i) => Order::Param(i),
-                    },
-                })
-                .collect(),
+            signals: a.signals.iter().map(signal).collect(),
             outputs: a
                 .outputs
                 .iter()
-                .map(|(n, t)| Output { name: Owned(n.clone()), terms: terms(t) })
+                .map(|(n, def)| match def {
+                    OutputDef::Dofs(t) => Output::dofs(n.clone(), terms(t)),
+                    OutputDef::Expression(i) => Output::expression(n.clone(), *i),
+                })
                 .collect(),
+            output_signals: a.output_signals.iter().map(signal).collect(),
+            output_degree: a.output_degree() as usize,
             equations: checked.equations.iter().map(|e| Owned(e.clone())).collect(),
             degree: shape.degree as usize,
             max_harmonic: shape.max_harmonic.max(1) as usize,
@@ -148,6 +154,7 @@ impl RuntimeModel {
             reads: shape.reads.clone(),
             explicit_omega: shape.explicit_omega,
             residual: Program::compile(&a.equations, &a.aliases),
+            output_program: Program::compile(&a.output_exprs, &a.aliases),
             checks: Program::compile(a.checks.iter().map(|c| &c.node), &a.aliases),
             check_info,
         })
@@ -225,6 +232,12 @@ impl Model for RuntimeModel {
     fn outputs(&self) -> &[Output] {
         &self.outputs
     }
+    fn output_signals(&self) -> &[Signal] {
+        &self.output_signals
+    }
+    fn output_degree(&self) -> usize {
+        self.output_degree
+    }
     fn degree(&self) -> usize {
         self.degree
     }
@@ -256,6 +269,17 @@ impl Model for RuntimeModel {
     ) {
         let n = self.dofs.len();
         RuntimeModel::run(&self.residual, params, omega, phase, signals, &mut out[..n]);
+    }
+    fn output_values<D: DualNum<Primitive = f64> + Copy>(
+        &self,
+        params: &[D],
+        omega: D,
+        phase: f64,
+        signals: &[D],
+        out: &mut [D],
+    ) {
+        let n = self.output_program.outputs();
+        RuntimeModel::run(&self.output_program, params, omega, phase, signals, &mut out[..n]);
     }
     fn check_coefficients(&self, params: &[f64], omega: f64) -> Result<(), Error> {
         if self.check_info.is_empty() {

@@ -37,7 +37,7 @@ use super::past::PeriodicPast;
 use super::weights::Scheme;
 use crate::error::Error;
 use crate::fourier::{apply_order, eval};
-use crate::model::{combine, combine_blocks, DynModel, Model, Order};
+use crate::model::{combine, combine_blocks, DynModel, Model, Order, OutputKind, Signal};
 use num_dual::Dual64;
 
 /// Newmark average acceleration parameters.
@@ -214,6 +214,78 @@ pub struct Stepper<'m> {
     a_scale: f64,
     newton_total: usize,
     newton_max: usize,
+    /// The parameter values (plain numbers, for the outputs).
+    params_f: Vec<f64>,
+    /// The output signals: how each is obtained, the memory of the fractional ones,
+    /// and their values at the current state.
+    out_kinds: Vec<Kind>,
+    out_histories: Vec<History>,
+    out_pasts: Vec<Option<PeriodicPast>>,
+    out_sig: Vec<f64>,
+    /// The expression outputs at the current state.
+    expressions: Vec<f64>,
+}
+
+/// The memories of a list of fractional signals.
+#[derive(Default)]
+struct Memories {
+    histories: Vec<History>,
+    pasts: Vec<Option<PeriodicPast>>,
+}
+
+/// What every signal list is set up from: the parameters, the options, the periodic
+/// start (its coefficients, `ω`, and coefficient length) and the displacements at `t = 0`.
+struct Start<'a> {
+    params: &'a [f64],
+    opts: &'a StepperOptions,
+    base: Option<(&'a PeriodicStart, f64, usize)>,
+    x0: &'a [f64],
+}
+
+impl Start<'_> {
+    /// How each of `signals` is obtained, with a memory (in `mem`) for each
+    /// fractional one, `e_0` in it; `what` names the list in errors.
+    fn kinds(
+        &self,
+        signals: &[Signal],
+        what: &str,
+        mem: &mut Memories,
+    ) -> Result<Vec<Kind>, Error> {
+        let (dt, opts) = (self.opts.dt, self.opts);
+        let mut kinds = Vec::with_capacity(signals.len());
+        for s in signals {
+            let kind = match s.order {
+                Order::Int(0) => Kind::Displacement,
+                Order::Int(1) => Kind::Velocity,
+                Order::Int(2) => Kind::Acceleration,
+                Order::Int(n) => {
+                    return Err(Error::InvalidValue {
+                        what: format!("{what} derivative order"),
+                        value: n.to_string(),
+                        expected: "0, 1, 2 or a fractional order: the time integrator \
+                                   (Newmark) carries no state for higher derivatives"
+                            .into(),
+                    })
+                }
+                Order::Param(i) => {
+                    let q = self.params[i];
+                    let w = opts.scheme.weights(q, opts.steps + 1);
+                    let w0 = w[0];
+                    mem.pasts.push(self.base.map(|(p, w_base, len)| {
+                        let mut e = vec![0.0; len];
+                        combine_blocks(&s.terms, &p.coeffs, &mut e);
+                        PeriodicPast::new(&e, w_base, dt, q, opts.scheme, opts.memory, w.clone())
+                    }));
+                    let mut h = History::new(opts.memory, w);
+                    h.push(combine(&s.terms, self.x0))?; // e_0 (0 from rest)
+                    mem.histories.push(h);
+                    Kind::Fractional { history: mem.histories.len() - 1, scale: dt.powf(-q), w0 }
+                }
+            };
+            kinds.push(kind);
+        }
+        Ok(kinds)
+    }
 }
 
 impl std::fmt::Debug for Stepper<'_> {
@@ -315,45 +387,30 @@ impl<'m> Stepper<'m> {
                 v0[i] = eval(&d, 0.0) + p.dv.get(i).copied().unwrap_or(0.0);
             }
         }
-        let mut kinds = Vec::new();
-        let mut histories = Vec::new();
-        let mut pasts = Vec::new();
-        for s in model.signals() {
-            let kind = match s.order {
-                Order::Int(0) => Kind::Displacement,
-                Order::Int(1) => Kind::Velocity,
-                Order::Int(2) => Kind::Acceleration,
-                Order::Int(n) => {
-                    return Err(Error::InvalidValue {
-                        what: "signal derivative order".into(),
-                        value: n.to_string(),
-                        expected: "0, 1, 2 or a fractional order: the time integrator \
-                                   (Newmark) carries no state for higher derivatives"
-                            .into(),
-                    })
-                }
-                Order::Param(i) => {
-                    let q = params_f[i];
-                    let w = opts.scheme.weights(q, opts.steps + 1);
-                    let w0 = w[0];
-                    pasts.push(base.map(|(p, w_base, len)| {
-                        let mut e = vec![0.0; len];
-                        combine_blocks(&s.terms, &p.coeffs, &mut e);
-                        PeriodicPast::new(&e, w_base, dt, q, opts.scheme, opts.memory, w.clone())
-                    }));
-                    histories.push(History::new(opts.memory, w));
-                    if let Some(h) = histories.last_mut() {
-                        h.push(combine(&s.terms, &x0))?; // e_0 (0 from rest)
-                    }
-                    Kind::Fractional { history: histories.len() - 1, scale: dt.powf(-q), w0 }
-                }
-            };
-            kinds.push(kind);
-        }
+        let start = Start { params: &params_f, opts, base, x0: &x0 };
+        let mut eq = Memories::default();
+        let kinds = start.kinds(model.signals(), "signal", &mut eq)?;
+        let mut out = Memories::default();
+        let out_kinds = start.kinds(model.output_signals(), "output signal", &mut out)?;
         let nsig = kinds.len();
+        let expressions = model
+            .outputs()
+            .iter()
+            .filter_map(|o| match o.kind {
+                OutputKind::Expression(i) => Some(i + 1),
+                OutputKind::Dofs(_) => None,
+            })
+            .max()
+            .unwrap_or(0);
         let mut s = Stepper {
             model,
             params: params_f.iter().map(|&p| Dual64::new(p, 0.0)).collect(),
+            out_sig: vec![0.0; out_kinds.len()],
+            out_kinds,
+            out_histories: out.histories,
+            out_pasts: out.pasts,
+            expressions: vec![0.0; expressions],
+            params_f,
             omega,
             dt,
             steps: opts.steps,
@@ -364,8 +421,8 @@ impl<'m> Stepper<'m> {
             v: v0,
             a: vec![0.0; n],
             kinds,
-            histories,
-            pasts,
+            histories: eq.histories,
+            pasts: eq.pasts,
             base: vec![0.0; nsig],
             slope: vec![0.0; nsig],
             sig: vec![Dual64::new(0.0, 0.0); nsig],
@@ -400,7 +457,48 @@ impl<'m> Stepper<'m> {
         for p in s.pasts.iter_mut().flatten() {
             p.advance()?;
         }
+        s.record_outputs(true)?;
         Ok(s)
+    }
+
+    /// The output signals and the expression outputs at the state just committed
+    /// (`initial`: at `t = 0`, whose fractional values the start set up).
+    fn record_outputs(&mut self, initial: bool) -> Result<(), Error> {
+        if self.expressions.is_empty() {
+            return Ok(());
+        }
+        for (i, s) in self.model.output_signals().iter().enumerate() {
+            let comb = |y: &[f64]| combine(&s.terms, y);
+            self.out_sig[i] = match self.out_kinds[i] {
+                Kind::Displacement => comb(&self.x),
+                Kind::Velocity => comb(&self.v),
+                Kind::Acceleration => comb(&self.a),
+                Kind::Fractional { history, scale, w0 } => {
+                    let e = comb(&self.x);
+                    // The lag sum over e_0 .. e_{n-1}, before e_n joins it (at t = 0 the
+                    // history holds e_0 alone and there is no lag).
+                    let mut h =
+                        if initial { 0.0 } else { self.out_histories[history].lag_sum()? };
+                    if let Some(p) = self.out_pasts[history].as_mut() {
+                        h += p.tail()?;
+                        p.advance()?;
+                    }
+                    if !initial {
+                        self.out_histories[history].push(e)?;
+                    }
+                    scale * (w0 * e + h)
+                }
+            };
+        }
+        let phase = self.omega * self.time();
+        self.model.output_values::<f64>(
+            &self.params_f,
+            self.omega,
+            phase,
+            &self.out_sig,
+            &mut self.expressions,
+        );
+        Ok(())
     }
 
     /// Advance one step (allocation-free). On failure the state is left at the last
@@ -438,7 +536,8 @@ impl<'m> Stepper<'m> {
             self.base[i] = base;
             self.slope[i] = slope;
         }
-        self.solve(t, false)
+        self.solve(t, false)?;
+        self.record_outputs(false)
     }
 
     /// Newton on `a_{n+1}` for the current `base`/`slope`, then commit the step
@@ -577,9 +676,12 @@ impl<'m> Stepper<'m> {
         &self.a
     }
 
-    /// The value of output `index` (a linear combination of displacements).
+    /// The value of output `index` at the current state.
     pub fn output(&self, index: usize) -> f64 {
-        combine(&self.model.outputs()[index].terms, &self.x)
+        match &self.model.outputs()[index].kind {
+            OutputKind::Dofs(terms) => combine(terms, &self.x),
+            OutputKind::Expression(i) => self.expressions[*i],
+        }
     }
 
     /// Newton iterations: total over all steps, and the most in one step.

@@ -6,7 +6,7 @@
 
 use ihbm::balance::Balance;
 use ihbm::linalg::Band;
-use ihbm::model::{Domain, Model, Order, Output, ParamInfo, Signal, Text};
+use ihbm::model::{Domain, Model, Order, Output, OutputKind, ParamInfo, Signal, Text};
 use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
 use num_dual::DualNum;
 use std::borrow::Cow::Borrowed;
@@ -101,7 +101,8 @@ impl Model for Claims {
         S
     }
     fn outputs(&self) -> &[Output] {
-        const O: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(&[(0, 1.0)]) }];
+        const O: &[Output] =
+            &[Output { name: Borrowed("x"), kind: OutputKind::Dofs(Borrowed(&[(0, 1.0)])) }];
         O
     }
     fn degree(&self) -> usize {

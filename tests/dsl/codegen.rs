@@ -3,7 +3,7 @@
 //! literal factors normalised out of a signal, sin/cos at several harmonics, `omega`
 //! as a coefficient), checked against the same equations written out by hand.
 
-use ihbm::model::{Model, Order, Signal};
+use ihbm::model::{Model, Order, OutputKind, Signal};
 use num_dual::Dual64;
 use proptest::prelude::*;
 
@@ -49,7 +49,7 @@ fn metadata() {
     assert_eq!(m.b, -0.5);
     assert_eq!(m.degree(), 5);
     assert_eq!(m.max_forcing_harmonic(), 3);
-    assert_eq!(*m.outputs()[2].terms, [(0, 0.5), (1, -1.0)]);
+    assert_eq!(m.outputs()[2].kind, OutputKind::Dofs([(0, 0.5), (1, -1.0)].to_vec().into()));
     assert_eq!(m.params_info()[1].doc, "a negative default");
     // x, y, D²x, D²y, Dx, Dy, D^p x, D^p y, D(x - y): nine distinct signals
     assert_eq!(m.signals().len(), 9);

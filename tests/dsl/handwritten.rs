@@ -5,7 +5,7 @@
 /// Hand-written quarter car (reference paper, eq. 4).
 pub mod quarter_car {
 
-    use ihbm::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
+    use ihbm::model::{Bound, Domain, Model, Order, Output, OutputKind, ParamInfo, Signal, Text};
     use num_dual::DualNum;
     use std::borrow::Cow::Borrowed;
 
@@ -102,9 +102,9 @@ pub mod quarter_car {
         Signal { terms: Borrowed(Y), order: Order::Param(7) },
     ];
     const OUTPUTS: &[Output] = &[
-        Output { name: Borrowed("z1"), terms: Borrowed(Z1) },
-        Output { name: Borrowed("z2"), terms: Borrowed(Z2) },
-        Output { name: Borrowed("y"), terms: Borrowed(Y) },
+        Output { name: Borrowed("z1"), kind: OutputKind::Dofs(Borrowed(Z1)) },
+        Output { name: Borrowed("z2"), kind: OutputKind::Dofs(Borrowed(Z2)) },
+        Output { name: Borrowed("y"), kind: OutputKind::Dofs(Borrowed(Y)) },
     ];
 
     impl Default for QuarterCar {
@@ -197,12 +197,13 @@ pub mod quarter_car {
 /// Hand-written Duffing and fractional Duffing oscillators.
 pub mod duffing {
 
-    use ihbm::model::{Bound, Domain, Model, Order, Output, ParamInfo, Signal, Text};
+    use ihbm::model::{Bound, Domain, Model, Order, Output, OutputKind, ParamInfo, Signal, Text};
     use num_dual::DualNum;
     use std::borrow::Cow::Borrowed;
 
     const X: &[(usize, f64)] = &[(0, 1.0)];
-    const OUTPUTS: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(X) }];
+    const OUTPUTS: &[Output] =
+        &[Output { name: Borrowed("x"), kind: OutputKind::Dofs(Borrowed(X)) }];
 
     /// `m x'' + c x' + k x + k3 x^3 = F cos Ωt`.
     #[derive(Debug, Clone, PartialEq)]

@@ -7,7 +7,7 @@ use crate::common as dsl_common;
 use dsl_common::{fd_jacobian, rel_diff, residual, residual_jacobian, scale_params};
 use ihbm::balance::Balance;
 use ihbm::corrector::{solve, SolveOptions};
-use ihbm::model::Model;
+use ihbm::model::{Model, OutputKind};
 use ihbm::models::{BaseExcited, Duffing, FractionalDuffing, QuarterCar, TwoMassChain};
 use num_complex::Complex64;
 use proptest::prelude::*;
@@ -181,7 +181,7 @@ fn generated_metadata_is_what_was_declared() {
     assert_eq!(ch.dofs(), &["x1", "x2"]);
     let names: Vec<&str> = ch.outputs().iter().map(|o| &*o.name).collect();
     assert_eq!(names, ["x1", "x2", "rel"]);
-    assert_eq!(*ch.outputs()[2].terms, [(0, 1.0), (1, -1.0)]);
+    assert_eq!(ch.outputs()[2].kind, OutputKind::Dofs([(0, 1.0), (1, -1.0)].to_vec().into()));
     // D(rel, p) is one signal on x1 - x2 of order Param(p)
     let p = ch.param_index("p").unwrap();
     assert!(ch

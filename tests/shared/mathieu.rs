@@ -7,7 +7,7 @@
 
 use ihbm::bifurcation::{fold_curves, Boundary, FoldCurveOptions};
 use ihbm::continuation::{sweep, SweepOptions};
-use ihbm::model::{Domain, Model, Order, Output, ParamInfo, Signal, Text};
+use ihbm::model::{Domain, Model, Order, Output, OutputKind, ParamInfo, Signal, Text};
 use ihbm::results::BifurcationKind;
 use num_dual::DualNum;
 use std::borrow::Cow::Borrowed;
@@ -67,7 +67,7 @@ impl Model for Mathieu {
         S
     }
     fn outputs(&self) -> &[Output] {
-        const O: &[Output] = &[Output { name: Borrowed("x"), terms: Borrowed(X) }];
+        const O: &[Output] = &[Output { name: Borrowed("x"), kind: OutputKind::Dofs(Borrowed(X)) }];
         O
     }
     /// The parametric term `cos(Ωt) x` doubles the harmonic content like a square.

@@ -81,6 +81,8 @@ mod tests {
                 Node::Sub(b(Node::Signal(3)), b(Node::Signal(2))),
             ],
             outputs: Vec::new(),
+            output_signals: Vec::new(),
+            output_exprs: Vec::new(),
             checks: Vec::new(),
         };
         compact(&mut a);

@@ -49,6 +49,9 @@ pub struct Lower<'a> {
     pub(super) checks: Vec<(Option<usize>, Check)>,
     /// The alias being lowered, if any (checks found in it count only if it is used).
     pub(super) lowering_alias: Option<usize>,
+    /// Lower a use of an alias as its definition (in an output, whose signals are
+    /// numbered apart from the residual's).
+    expand_aliases: bool,
 }
 
 impl<'a> Lower<'a> {
@@ -61,7 +64,22 @@ impl<'a> Lower<'a> {
             aliases: Vec::new(),
             checks: Vec::new(),
             lowering_alias: None,
+            expand_aliases: false,
         }
+    }
+
+    /// An output's tree, over the output signals `signals` (met signals are added to
+    /// it) with every alias expanded. Its coefficient checks are not kept: the solvers
+    /// check what the residual needs, and an output that is not finite shows as such.
+    pub fn output(&mut self, e: &Expr, signals: &mut Vec<SignalKey>) -> syn::Result<Node> {
+        std::mem::swap(&mut self.signals, signals);
+        let checks = self.checks.len();
+        self.expand_aliases = true;
+        let lowered = self.value(e);
+        self.expand_aliases = false;
+        self.checks.truncate(checks);
+        std::mem::swap(&mut self.signals, signals);
+        Ok(lowered?.0)
     }
 
     /// Lower alias `i`, then declare its name (so it sees only earlier names).
@@ -227,6 +245,10 @@ impl<'a> Lower<'a> {
             Name::Dof(i) => {
                 let s = self.signal(SignalKey { terms: vec![(i, 1.0)], order: OrderKey::Int(0) });
                 Ok((Node::Signal(s), Info { dof: Some(Sp::of(&ident)), forcing: None }))
+            }
+            Name::Alias(i) if self.expand_aliases => {
+                let lets = self.lets;
+                self.value(&lets[i].expr)
             }
             Name::Alias(i) => {
                 let info = self.aliases[i].1;

@@ -1,77 +1,107 @@
-//! Outputs: the named quantities results are reported in, each a linear combination of
-//! DOFs with literal coefficients, so that its terms are fixed at compile time. Without
-//! an `outputs` section every DOF is one.
+//! Outputs: the named quantities results are reported in. A DOF, a `let` alias, or
+//! `name = expression` with anything an equation may hold (derivatives of any order,
+//! forcing, parameters, nonlinear terms). A linear combination of DOFs with literal
+//! coefficients is kept as such (combined from the coefficients exactly); anything
+//! else becomes a tree over signals of its own, evaluated on the transform's time grid.
+//! Without an `outputs` section every DOF is one.
 
 use super::diag::{err, Sp};
 use super::linear::LinearReader;
-use super::scope::Name;
-use super::tree::Terms;
+use super::lower::Lower;
+use super::scope::{Name, RESERVED};
+use super::tree::{Node, OutputDef, SignalKey, Terms};
 use crate::parse::ModelDef;
 use syn::Expr;
 
-/// The outputs of `def`, names unique.
-pub fn outputs(def: &ModelDef, reader: &LinearReader) -> syn::Result<Vec<(String, Terms)>> {
-    let mut outputs = Vec::new();
-    match &def.outputs {
-        Some(list) => {
-            let mut seen: Vec<String> = Vec::new();
-            for o in list {
-                let name = o.name.to_string();
-                if seen.contains(&name) {
-                    return err(Sp::of(&o.name), format!("duplicate output name `{name}`"));
-                }
-                seen.push(name.clone());
-                outputs.push((name, output(reader, &o.name, o.expr.as_ref())?));
-            }
-        }
-        None => {
-            for (i, d) in def.dofs.iter().enumerate() {
-                outputs.push((d.to_string(), vec![(i, 1.0)]));
-            }
-        }
-    }
-    Ok(outputs)
+/// The outputs of `def`, names unique, with the expression outputs' signals and trees.
+pub struct Outputs {
+    pub outputs: Vec<(String, OutputDef)>,
+    pub signals: Vec<SignalKey>,
+    pub exprs: Vec<Node>,
 }
 
-/// Output `name = expr` (or a bare DOF/alias name): literal linear combination.
-fn output(reader: &LinearReader, name: &syn::Ident, expr: Option<&Expr>) -> syn::Result<Terms> {
-    let lin = match expr {
-        Some(e) => reader.read(e)?,
-        None => {
-            let n = reader.scope.lookup(name)?;
-            match n {
-                Name::Dof(i) => return Ok(vec![(i, 1.0)]),
-                Name::Alias(i) => reader.read(&reader.lets[i].expr)?,
-                Name::Param(_) => {
-                    return err(
-                        Sp::of(&name),
-                        format!("output `{name}` is a parameter: outputs are DOFs or aliases"),
-                    )
-                }
-            }
+/// The outputs of `def`, lowered with the names `lower` has declared.
+pub fn outputs(def: &ModelDef, lower: &mut Lower) -> syn::Result<Outputs> {
+    let mut out = Outputs { outputs: Vec::new(), signals: Vec::new(), exprs: Vec::new() };
+    let Some(list) = &def.outputs else {
+        for (i, d) in def.dofs.iter().enumerate() {
+            out.outputs.push((d.to_string(), OutputDef::Dofs(vec![(i, 1.0)])));
         }
+        return Ok(out);
     };
-    let span = expr.map_or(Sp::of(&name), |e| Sp::of(&e));
-    let msg = "outputs must be linear combinations of DOFs with literal coefficients \
-               (their terms are fixed at compile time)";
+    let mut seen: Vec<String> = Vec::new();
+    for o in list {
+        let name = o.name.to_string();
+        if RESERVED.contains(&name.as_str()) {
+            return err(
+                Sp::of(&o.name),
+                format!(
+                    "`{name}` is a reserved name in oscillator! (`omega` is the forcing \
+                     frequency, `t` the time, `D` the derivative); name the output otherwise"
+                ),
+            );
+        }
+        if seen.contains(&name) {
+            return err(Sp::of(&o.name), format!("duplicate output name `{name}`"));
+        }
+        seen.push(name.clone());
+        let expr: Expr = match &o.expr {
+            Some(e) => {
+                if let Some(n) = lower.linear().scope.get(&name) {
+                    return err(
+                        Sp::of(&o.name),
+                        format!(
+                            "output `{name} = ...` takes the name of {}: write `{name}` alone \
+                             to report it, or give the expression another name",
+                            n.kind()
+                        ),
+                    );
+                }
+                e.clone()
+            }
+            None => {
+                if let Name::Param(_) = lower.linear().scope.lookup(&o.name)? {
+                    return err(
+                        Sp::of(&o.name),
+                        format!(
+                            "output `{name}` is a parameter, a constant: outputs are DOFs, \
+                             aliases or `name = expression`"
+                        ),
+                    );
+                }
+                Expr::Path(syn::ExprPath {
+                    attrs: Vec::new(),
+                    qself: None,
+                    path: o.name.clone().into(),
+                })
+            }
+        };
+        let def = match literal_combination(&lower.linear(), &expr) {
+            Some(terms) => OutputDef::Dofs(terms),
+            None => {
+                let tree = lower.output(&expr, &mut out.signals)?;
+                out.exprs.push(tree);
+                OutputDef::Expression(out.exprs.len() - 1)
+            }
+        };
+        out.outputs.push((name, def));
+    }
+    Ok(out)
+}
+
+/// `e` as a linear combination of DOFs with literal coefficients and no constant term,
+/// if it is one.
+fn literal_combination(reader: &LinearReader, e: &Expr) -> Option<Terms> {
+    let lin = reader.read(e).ok()?;
     if !lin.konst.is_zero() {
-        return err(span, format!("{msg}; output `{name}` has a constant term"));
+        return None;
     }
     let mut terms = Vec::new();
     for (dof, poly) in lin.dofs {
-        match poly.literal() {
-            Some(0.0) => {}
-            Some(c) => terms.push((dof, c)),
-            None => {
-                return err(
-                    span,
-                    format!("{msg}; output `{name}` has a parameter or omega coefficient"),
-                )
-            }
+        match poly.literal()? {
+            0.0 => {}
+            c => terms.push((dof, c)),
         }
     }
-    if terms.is_empty() {
-        return err(span, format!("output `{name}` has no DOF term"));
-    }
-    Ok(terms)
+    (!terms.is_empty()).then_some(terms)
 }

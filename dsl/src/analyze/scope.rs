@@ -6,7 +6,7 @@ use super::diag::{err, Sp};
 use std::collections::HashMap;
 
 /// Names the DSL keeps for itself.
-const RESERVED: [&str; 3] = ["omega", "t", "D"];
+pub(super) const RESERVED: [&str; 3] = ["omega", "t", "D"];
 
 /// How a name resolves (the index is the declaration order within its kind).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,6 +54,11 @@ impl Scope {
         }
         self.names.insert(s, name);
         Ok(())
+    }
+
+    /// What `name` is, if it is declared.
+    pub fn get(&self, name: &str) -> Option<Name> {
+        self.names.get(name).copied()
     }
 
     /// What `ident` is, or an error listing the names there are.

@@ -105,6 +105,11 @@ pub struct ModelShape {
 }
 
 impl Analysis {
+    /// The polynomial degree of the expression outputs in their signals (at least 1).
+    pub fn output_degree(&self) -> u32 {
+        self.output_exprs.iter().map(|e| shape(e, &[]).degree).max().unwrap_or(1).max(1)
+    }
+
     /// The shape of the equations (aliases counted where they are used).
     pub fn shape(&self) -> ModelShape {
         let mut aliases: Vec<Shape> = Vec::with_capacity(self.aliases.len());

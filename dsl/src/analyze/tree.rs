@@ -157,6 +157,16 @@ impl Node {
     }
 }
 
+/// What an output is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OutputDef {
+    /// A linear combination of DOFs with literal coefficients (combined from the
+    /// coefficients exactly).
+    Dofs(Terms),
+    /// Tree `i` of [`Analysis::output_exprs`].
+    Expression(usize),
+}
+
 /// A `let` alias: its tree, and whether the residual uses it.
 #[derive(Debug, Clone)]
 pub struct Alias {
@@ -171,8 +181,13 @@ pub struct Analysis {
     pub aliases: Vec<Alias>,
     /// One residual tree per equation (`lhs - rhs`).
     pub equations: Vec<Node>,
-    /// `(name, terms)` per output.
-    pub outputs: Vec<(String, Terms)>,
+    /// `(name, what it is)` per output.
+    pub outputs: Vec<(String, OutputDef)>,
+    /// The signals the expression outputs read (a list of their own: the residual
+    /// does not pay for them).
+    pub output_signals: Vec<SignalKey>,
+    /// One tree per expression output, over `output_signals`, aliases expanded.
+    pub output_exprs: Vec<Node>,
     /// The coefficient subexpressions to check at run time, innermost first, from the
     /// equations and the used aliases.
     pub checks: Vec<Check>,

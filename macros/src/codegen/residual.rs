@@ -16,16 +16,10 @@ pub(super) enum Kind {
 
 /// `fn residual`, generic over the dual type.
 pub fn residual(a: &Analysis) -> TokenStream {
-    let locals = locals(&uses(a));
+    let used = a.aliases.iter().filter(|x| x.used).map(|x| &x.node);
+    let locals = locals(&uses(a.equations.iter().chain(used)));
     let (alias_kinds, alias_lets) = aliases(a);
-    let outs = a.equations.iter().enumerate().map(|(i, n)| {
-        let (code, kind) = expr(n, &alias_kinds);
-        if kind == Kind::Const {
-            quote!(__out[#i] = __IhbmD::from(#code);)
-        } else {
-            quote!(__out[#i] = #code;)
-        }
-    });
+    let body = assignments(&a.equations, &alias_kinds);
     let nout = a.equations.len();
     quote! {
         #[inline]
@@ -41,9 +35,48 @@ pub fn residual(a: &Analysis) -> TokenStream {
             let __out = &mut __out[..#nout];
             #locals
             #(#alias_lets)*
-            #(#outs)*
+            #body
         }
     }
+}
+
+/// `fn output_values` (the expression outputs, aliases expanded), generic over the
+/// dual type; nothing when every output is a combination of DOFs.
+pub fn output_values(a: &Analysis) -> TokenStream {
+    if a.output_exprs.is_empty() {
+        return TokenStream::new();
+    }
+    let locals = locals(&uses(a.output_exprs.iter()));
+    let body = assignments(&a.output_exprs, &[]);
+    let nout = a.output_exprs.len();
+    quote! {
+        #[allow(unused_variables, unused_parens, clippy::all)]
+        fn output_values<__IhbmD: ::ihbm::num_dual::DualNum<Primitive = f64> + Copy>(
+            &self,
+            __params: &[__IhbmD],
+            __omega: __IhbmD,
+            __phase: f64,
+            __signals: &[__IhbmD],
+            __out: &mut [__IhbmD],
+        ) {
+            let __out = &mut __out[..#nout];
+            #locals
+            #body
+        }
+    }
+}
+
+/// `__out[i] = <tree i>;` for each tree.
+fn assignments(trees: &[Node], alias_kinds: &[Kind]) -> TokenStream {
+    let outs = trees.iter().enumerate().map(|(i, n)| {
+        let (code, kind) = expr(n, alias_kinds);
+        if kind == Kind::Const {
+            quote!(__out[#i] = __IhbmD::from(#code);)
+        } else {
+            quote!(__out[#i] = #code;)
+        }
+    });
+    quote!(#(#outs)*)
 }
 
 /// What the residual body needs declared up front.
@@ -54,8 +87,8 @@ struct Uses {
     forcing: Vec<(Trig, u32)>,
 }
 
-/// The parameters, signals and forcing terms the equations and used aliases read, sorted.
-fn uses(a: &Analysis) -> Uses {
+/// The parameters, signals and forcing terms `trees` read (aliases are leaves), sorted.
+fn uses<'a>(trees: impl Iterator<Item = &'a Node>) -> Uses {
     fn collect(n: &Node, u: &mut Uses) {
         fn add<T: PartialEq>(v: &mut Vec<T>, x: T) {
             if !v.contains(&x) {
@@ -70,11 +103,8 @@ fn uses(a: &Analysis) -> Uses {
         }
     }
     let mut uses = Uses::default();
-    for eq in &a.equations {
-        collect(eq, &mut uses);
-    }
-    for alias in a.aliases.iter().filter(|x| x.used) {
-        collect(&alias.node, &mut uses);
+    for tree in trees {
+        collect(tree, &mut uses);
     }
     uses.params.sort_unstable();
     uses.signals.sort_unstable();
