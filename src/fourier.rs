@@ -71,27 +71,102 @@ pub fn sample_count(degree: usize, harmonics: usize, max_forcing: usize) -> usiz
 /// ```
 pub fn model_sample_count(model: &dyn DynModel, harmonics: usize, period: usize) -> usize {
     let period = period.max(1);
-    samples(
+    if let Some(m) = model.aft_samples() {
+        return m.saturating_mul(period);
+    }
+    let alias_free = samples(
         model.degree(),
         harmonics,
         model.max_forcing_harmonic().saturating_mul(period),
         model.parametric_harmonic().saturating_mul(period),
-    )
+    );
+    if model.smooth() {
+        alias_free
+    } else {
+        fast_size(alias_free.max(KINK_OVERSAMPLING.saturating_mul(coeff_len(harmonics))))
+    }
 }
 
-/// The alias-free sample count of `model`'s expression outputs
+/// The samples a non-smooth model's transform takes per coefficient of a DOF (`M >=
+/// 16 (2N + 1)`, where the alias-free count asks no more). A kink (`max`, `min`,
+/// `abs`) of a smooth signal has harmonics that fall like `k⁻²`, so what folds back
+/// onto the kept harmonics falls like `M⁻²`; a jump (`sign`) like `M⁻¹`. The book
+/// ("Non-smooth terms") measures both; `--aft-samples` sets another count.
+pub const KINK_OVERSAMPLING: usize = 16;
+
+/// Check a sample count a model asks for ([`Model::aft_samples`](crate::model::Model::aft_samples))
+/// at `harmonics` harmonics of `Ω / period`: it must resolve every harmonic (`M >= 2N +
+/// 1` per solution period), and for a smooth model it may not fall below the
+/// alias-free count, which would make the projection alias without a word.
+pub fn check_samples(model: &dyn DynModel, harmonics: usize, period: usize) -> Result<()> {
+    let Some(m) = model.aft_samples() else { return Ok(()) };
+    let period = period.max(1);
+    let total = m.saturating_mul(period);
+    let needed = coeff_len(harmonics);
+    if total < needed {
+        return Err(Error::InvalidValue {
+            what: "samples per period of the transform".into(),
+            value: m.to_string(),
+            expected: format!(
+                "at least 2N + 1 = {} per period{}",
+                needed.div_ceil(period),
+                if period > 1 {
+                    format!(" ({needed} over the {period} periods)")
+                } else {
+                    String::new()
+                }
+            ),
+        });
+    }
+    if model.smooth() {
+        let alias_free = samples(
+            model.degree(),
+            harmonics,
+            model.max_forcing_harmonic().saturating_mul(period),
+            model.parametric_harmonic().saturating_mul(period),
+        );
+        if total < alias_free {
+            return Err(Error::InvalidValue {
+                what: "samples per period of the transform".into(),
+                value: m.to_string(),
+                expected: format!(
+                    "at least {} for model '{}' at N = {harmonics}: it is smooth, and fewer \
+                     samples would alias its degree-{} terms onto the kept harmonics",
+                    alias_free.div_ceil(period),
+                    model.name(),
+                    model.degree()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The sample count of `model`'s expression outputs
 /// ([`Model::output_signals`](crate::model::Model::output_signals)) at `harmonics`
-/// harmonics of `Ω / period`: [`model_sample_count`] with the outputs' degree
-/// ([`Model::output_degree`](crate::model::Model::output_degree)) in place of the
-/// residual's.
+/// harmonics of `Ω / period`: [`model_sample_count`]'s rule with the outputs' degree
+/// and smoothness ([`Model::output_degree`](crate::model::Model::output_degree),
+/// [`Model::outputs_smooth`](crate::model::Model::outputs_smooth)) in place of the
+/// residual's, and no fewer than [`Model::aft_samples`](crate::model::Model::aft_samples).
 pub fn output_sample_count(model: &dyn DynModel, harmonics: usize, period: usize) -> usize {
     let period = period.max(1);
-    samples(
+    let alias_free = samples(
         model.output_degree(),
         harmonics,
         model.max_forcing_harmonic().saturating_mul(period),
         model.parametric_harmonic().saturating_mul(period),
-    )
+    );
+    // A non-smooth output (or a solution of a non-smooth model, whose harmonics the
+    // count of `model_sample_count` serves) takes at least that count.
+    let own = if model.outputs_smooth() {
+        alias_free
+    } else {
+        fast_size(alias_free.max(KINK_OVERSAMPLING.saturating_mul(coeff_len(harmonics))))
+    };
+    match model.aft_samples() {
+        Some(m) => own.max(m.saturating_mul(period)),
+        None => own,
+    }
 }
 
 /// `M >= max((d + 1) N + k_p + 1, N + k_f + 1, 2N + 1)`, rounded up to a fast size.

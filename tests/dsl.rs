@@ -23,6 +23,8 @@ mod model_text;
 mod models;
 #[path = "dsl/nonlinear.rs"]
 mod nonlinear;
+#[path = "dsl/nonsmooth.rs"]
+mod nonsmooth;
 #[path = "dsl/outputs.rs"]
 mod outputs;
 #[path = "dsl/parametric.rs"]

@@ -23,7 +23,9 @@ mod tree;
 
 pub use shape::ModelShape;
 pub use syntax::show;
-pub use tree::{Alias, Analysis, Check, Func, Node, OrderKey, OutputDef, SignalKey, Terms, Trig};
+pub use tree::{
+    Alias, Analysis, Check, Func, Kink, Node, OrderKey, OutputDef, SignalKey, Terms, Trig,
+};
 
 use crate::parse::ModelDef;
 use diag::err;

@@ -205,12 +205,14 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         quote!(::ihbm::model::Output { name: ::std::borrow::Cow::Borrowed(#name), kind: #kind })
     });
     let output_degree = a.output_degree() as usize;
+    let outputs_smooth = a.outputs_smooth();
     let shape = a.shape();
     let degree = shape.degree as usize;
     // An unforced model reports 1, as the trait does by default.
     let max_k = shape.max_harmonic.max(1) as usize;
     let parametric = shape.parametric_harmonic as usize;
     let (affine, explicit_omega, reads) = (shape.affine, shape.explicit_omega, shape.reads);
+    let smooth = shape.smooth;
     quote! {
         fn name(&self) -> &str {
             #model_name
@@ -236,6 +238,12 @@ fn metadata(def: &ModelDef, a: &Analysis, model_name: &str, eq_text: &[String]) 
         }
         fn output_degree(&self) -> usize {
             #output_degree
+        }
+        fn outputs_smooth(&self) -> bool {
+            #outputs_smooth
+        }
+        fn smooth(&self) -> bool {
+            #smooth
         }
         fn equations(&self) -> &[::ihbm::model::Text] {
             const __EQUATIONS: &[::ihbm::model::Text] =

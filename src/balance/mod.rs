@@ -179,6 +179,7 @@ impl<'m> Balance<'m> {
                 });
             }
         }
+        crate::fourier::check_samples(model, harmonics, period)?;
         let m = model_sample_count(model, harmonics, period);
         let fourier = Fourier::new(harmonics, m)?;
         let phases: Vec<f64> = fourier.phases().iter().map(|p| p * period as f64).collect();

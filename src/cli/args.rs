@@ -36,6 +36,10 @@ pub enum Command {
         /// Number of harmonics N (>= 1).
         #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
         harmonics: usize,
+        /// Samples per forcing period of the transform (>= 2N + 1) [default: the
+        /// alias-free count; for a non-smooth model 16 (2N + 1)].
+        #[arg(long, value_name = "M")]
+        aft_samples: Option<usize>,
         /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
         #[arg(long = "set", value_name = "P=V")]
         set: Vec<String>,
@@ -145,6 +149,10 @@ pub enum Command {
         /// Number of harmonics N (>= 1).
         #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
         harmonics: usize,
+        /// Samples per forcing period of the transform (>= 2N + 1) [default: the
+        /// alias-free count; for a non-smooth model 16 (2N + 1)].
+        #[arg(long, value_name = "M")]
+        aft_samples: Option<usize>,
         /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
         #[arg(long = "set", value_name = "P=V")]
         set: Vec<String>,
@@ -237,6 +245,10 @@ pub struct CurveArgs {
     /// Number of harmonics N (>= 1).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_HARMONICS)]
     pub harmonics: usize,
+    /// Samples per forcing period of the transform (>= 2N + 1) [default: the alias-free
+    /// count; for a non-smooth model 16 (2N + 1)].
+    #[arg(long, value_name = "M")]
+    pub aft_samples: Option<usize>,
     /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
     #[arg(long = "set", value_name = "P=V")]
     pub set: Vec<String>,

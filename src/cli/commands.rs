@@ -21,15 +21,19 @@ use std::sync::Arc;
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
         Command::Models { name } => models(reg, name.as_deref(), out),
-        Command::Solve { name, omega, harmonics, set, json } => {
-            let model = configured(reg, &name, &set)?;
+        Command::Solve { name, omega, harmonics, aft_samples, set, json } => {
+            let model = configured(reg, &name, &set, aft_samples, harmonics)?;
             let analysis = Analysis::Solve { omega, settings: SolveSettings { harmonics } };
             let what = format!("solving {name} at Ω = {omega} rad/s");
             let Outcome::Solved(rec) = computed(&model, &analysis, &what)?.0 else {
                 return Err(mismatch(&analysis));
             };
             match json.as_deref() {
-                Some(target) => emit_json(&report::solve_json(&rec), target, out)?,
+                Some(target) => {
+                    let mut v = report::solve_json(&rec);
+                    v["aft_samples"] = model.samples(harmonics).into();
+                    emit_json(&v, target, out)?
+                }
                 None => {
                     w(out, format_args!(
                         "{} at Ω = {} rad/s, N = {}: {} after {} iterations (residual {:.3e}), stable: {}\n",
@@ -65,7 +69,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                     "invalid --period: {period} (expected 1, or 2 for the period-doubled branch)"
                 )));
             }
-            let model = configured(reg, &name, &args.set)?;
+            let model = configured(reg, &name, &args.set, args.aft_samples, args.harmonics)?;
             let what = format!("sweeping {name} from {from} to {to} rad/s");
             let settings = args.cont.settings(args.harmonics);
             if period == 2 {
@@ -79,7 +83,9 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 );
                 let (l1, l2) = (format!("{name} (period 1)"), format!("{name} (period 2)"));
                 let parent = Some((l1.as_str(), &both.period_one, Branch::PeriodTwo));
-                return write_curve(&both.period_two, &l2, &title, &args, parent, &[], out);
+                let samples = model.samples(both.period_two.harmonics);
+                let files = CurveFiles { args: &args, samples };
+                return write_curve(&both.period_two, &l2, &title, &files, parent, &[], out);
             }
             if break_symmetry {
                 let analysis = Analysis::BreakSymmetry { from, to, settings };
@@ -92,7 +98,8 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 );
                 let (l1, l2) = (format!("{name} (symmetric)"), format!("{name} (asymmetric)"));
                 let parent = Some((l1.as_str(), &both.symmetric, Branch::Asymmetric));
-                return write_curve(&both.broken, &l2, &title, &args, parent, &[], out);
+                let files = CurveFiles { args: &args, samples: model.samples(args.harmonics) };
+                return write_curve(&both.broken, &l2, &title, &files, parent, &[], out);
             }
             let analysis = Analysis::Sweep { from, to, settings };
             let (Outcome::Curve(curve), stopped) = computed(&model, &analysis, &what)? else {
@@ -104,7 +111,8 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             } else {
                 (Vec::new(), Vec::new())
             };
-            write_curve(&curve, &name, &title, &args, None, &overlays, out)?;
+            let files = CurveFiles { args: &args, samples: model.samples(args.harmonics) };
+            write_curve(&curve, &name, &title, &files, None, &overlays, out)?;
             if args.json.as_deref() != Some("-") {
                 for warning in warnings {
                     w(out, format_args!("warning: {warning}\n"))?;
@@ -114,7 +122,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
         }
         Command::SweepParam { name, param, from, to, omega, curve: args } => {
             distinct_outputs(&args)?;
-            let model = configured(reg, &name, &args.set)?;
+            let model = configured(reg, &name, &args.set, args.aft_samples, args.harmonics)?;
             let what =
                 format!("sweeping {param} of {name} from {from} to {to} at Ω = {omega} rad/s");
             let settings = args.cont.settings(args.harmonics);
@@ -126,12 +134,13 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                 "{name}: amplitude against {param} at Ω = {omega} rad/s, N = {}",
                 curve.harmonics
             );
-            write_curve(&curve, &name, &title, &args, None, &[], out)?;
+            let files = CurveFiles { args: &args, samples: model.samples(args.harmonics) };
+            write_curve(&curve, &name, &title, &files, None, &[], out)?;
             interrupted(stopped, &curve)
         }
         Command::Folds { name, param, from, to, omega_from, omega_to, boundary, curve: args } => {
             distinct_outputs(&args)?;
-            let model = configured(reg, &name, &args.set)?;
+            let model = configured(reg, &name, &args.set, args.aft_samples, args.harmonics)?;
             let what = format!("fold curves of {name} for {param} from {from} to {to}");
             let settings = args.cont.settings(args.harmonics);
             let omega = (omega_from, omega_to);
@@ -154,9 +163,20 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             }
             Ok(())
         }
-        Command::Backbone { name, to, mode, output, harmonics, set, csv, json, plot } => {
+        Command::Backbone {
+            name,
+            to,
+            mode,
+            output,
+            harmonics,
+            aft_samples,
+            set,
+            csv,
+            json,
+            plot,
+        } => {
             distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
-            let model = configured(reg, &name, &set)?;
+            let model = configured(reg, &name, &set, aft_samples, harmonics)?;
             let what = format!("backbone of {name}, mode {mode}, to {to}");
             let analysis = Analysis::Backbone(BackboneSettings { mode, output, to, harmonics });
             let Outcome::Backbone(b) = computed(&model, &analysis, &what)?.0 else {
@@ -165,7 +185,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             write_backbone(&b, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
         }
         Command::Cycle { name, omega, harmonics, set, param, from, to, json, csv, plot } => {
-            let model = configured(reg, &name, &set)?;
+            let model = configured(reg, &name, &set, None, 1)?;
             if let (Some(param), Some(from), Some(to)) = (param, from, to) {
                 distinct_files(csv.as_deref(), json.as_deref(), plot.as_deref())?;
                 let what = format!(
@@ -196,7 +216,7 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             }
         }
         Command::Simulate { name, omega, dt, periods, scheme, set, json } => {
-            let model = configured(reg, &name, &set)?;
+            let model = configured(reg, &name, &set, None, 1)?;
             let settings = SimSettings { dt, periods, scheme };
             let what = format!("integrating {name} at Ω = {omega} rad/s ({periods} periods)");
             let analysis = Analysis::Simulate { omega, settings };
@@ -467,17 +487,25 @@ fn backbone_overlays(
 }
 
 /// Write a traced curve: CSV, SVG, and the JSON or a human summary.
+/// Where a curve goes, and the transform's samples per period it was computed with.
+struct CurveFiles<'a> {
+    args: &'a CurveArgs,
+    samples: usize,
+}
+
 fn write_curve(
     curve: &Curve,
     name: &str,
     title: &str,
-    files: &CurveArgs,
+    files: &CurveFiles,
     parent: Option<(&str, &Curve, Branch)>,
     overlays: &[report::Overlay],
     out: &mut dyn Write,
 ) -> Result<(), Failure> {
+    let (samples, files) = (files.samples, files.args);
     let json = || {
         let mut v = report::sweep_json(curve);
+        v["aft_samples"] = samples.into();
         match parent.map(|p| p.2) {
             Some(Branch::PeriodTwo) => v["period"] = 2.into(),
             Some(Branch::Asymmetric) => v["branch"] = "symmetry-breaking".into(),
@@ -584,12 +612,22 @@ fn w(out: &mut dyn Write, args: std::fmt::Arguments) -> Result<(), Failure> {
     out.write_fmt(args).map_err(|e| Failure::failed(format!("writing to standard output: {e}")))
 }
 
-/// A fresh model with `--set P=V` overrides applied.
-fn configured(reg: &Registry, name: &str, sets: &[String]) -> Result<NamedModel, Failure> {
+/// A fresh model with `--set P=V` overrides applied, and `--aft-samples M` (checked at
+/// `harmonics` harmonics).
+fn configured(
+    reg: &Registry,
+    name: &str,
+    sets: &[String],
+    samples: Option<usize>,
+    harmonics: usize,
+) -> Result<NamedModel, Failure> {
     let mut model = reg.get(name).map_err(Failure::from_error)?;
     for s in sets {
         let (p, v) = parse_set(s)?;
         model.set_param(p, v).map_err(Failure::from_error)?;
+    }
+    if let Some(m) = samples {
+        model.set_aft_samples(m, harmonics, "--aft-samples").map_err(Failure::from_error)?;
     }
     Ok(model)
 }

@@ -8,7 +8,7 @@
 use super::analysis::{Analysis, Outcome, Watch};
 use super::ArgNames;
 use crate::error::{Error, Result};
-use crate::model::{BoxedModel, Model, Output, ParamInfo, Text};
+use crate::model::{BoxedModel, Model, Output, ParamInfo, Text, WithSamples};
 use crate::runtime::RuntimeModel;
 use std::path::{Path, PathBuf};
 
@@ -79,6 +79,28 @@ impl NamedModel {
             crate::stability::check_size(self.model.as_dyn(), harmonics)?;
         }
         Ok(())
+    }
+
+    /// Make every analysis's transform take `samples` samples per forcing period
+    /// ([`WithSamples`]), after checking the count at `harmonics` harmonics: at least
+    /// `2N + 1`, and for a smooth model at least its alias-free count. `what` names the
+    /// setting in the error (`--aft-samples`, `aft_samples`).
+    pub fn set_aft_samples(&mut self, samples: usize, harmonics: usize, what: &str) -> Result<()> {
+        let model = BoxedModel::new(WithSamples::new(self.model.clone(), samples));
+        crate::fourier::check_samples(model.as_dyn(), harmonics, 1).map_err(|e| match e {
+            Error::InvalidValue { value, expected, .. } => {
+                Error::InvalidValue { what: what.to_string(), value, expected }
+            }
+            e => e,
+        })?;
+        self.model = model;
+        Ok(())
+    }
+
+    /// The samples per period the transform takes at `harmonics` harmonics (what the
+    /// results report as `aft_samples`).
+    pub fn samples(&self, harmonics: usize) -> usize {
+        crate::fourier::model_sample_count(self.model.as_dyn(), harmonics, 1)
     }
 
     /// Named outputs.

@@ -56,8 +56,14 @@ pub trait DynModel: Send + Sync {
     fn dyn_output_signals(&self) -> &[Signal];
     /// [`Model::output_degree`].
     fn dyn_output_degree(&self) -> usize;
+    /// [`Model::outputs_smooth`].
+    fn dyn_outputs_smooth(&self) -> bool;
     /// [`Model::degree`].
     fn dyn_degree(&self) -> usize;
+    /// [`Model::smooth`].
+    fn dyn_smooth(&self) -> bool;
+    /// [`Model::aft_samples`].
+    fn dyn_aft_samples(&self) -> Option<usize>;
     /// [`Model::max_forcing_harmonic`].
     fn dyn_max_forcing_harmonic(&self) -> usize;
     /// [`Model::parametric_harmonic`].
@@ -149,8 +155,17 @@ impl<M: Model> DynModel for M {
     fn dyn_output_degree(&self) -> usize {
         Model::output_degree(self)
     }
+    fn dyn_outputs_smooth(&self) -> bool {
+        Model::outputs_smooth(self)
+    }
     fn dyn_degree(&self) -> usize {
         Model::degree(self)
+    }
+    fn dyn_smooth(&self) -> bool {
+        Model::smooth(self)
+    }
+    fn dyn_aft_samples(&self) -> Option<usize> {
+        Model::aft_samples(self)
     }
     fn dyn_max_forcing_harmonic(&self) -> usize {
         Model::max_forcing_harmonic(self)
@@ -311,8 +326,17 @@ impl Model for dyn DynModel + '_ {
     fn output_degree(&self) -> usize {
         DynModel::dyn_output_degree(self)
     }
+    fn outputs_smooth(&self) -> bool {
+        DynModel::dyn_outputs_smooth(self)
+    }
     fn degree(&self) -> usize {
         DynModel::dyn_degree(self)
+    }
+    fn smooth(&self) -> bool {
+        DynModel::dyn_smooth(self)
+    }
+    fn aft_samples(&self) -> Option<usize> {
+        DynModel::dyn_aft_samples(self)
     }
     fn max_forcing_harmonic(&self) -> usize {
         DynModel::dyn_max_forcing_harmonic(self)
@@ -392,8 +416,14 @@ macro_rules! forward_equations {
         fn output_degree(&$self) -> usize {
             Model::output_degree($inner)
         }
+        fn outputs_smooth(&$self) -> bool {
+            Model::outputs_smooth($inner)
+        }
         fn degree(&$self) -> usize {
             Model::degree($inner)
+        }
+        fn smooth(&$self) -> bool {
+            Model::smooth($inner)
         }
         fn max_forcing_harmonic(&$self) -> usize {
             Model::max_forcing_harmonic($inner)
@@ -442,6 +472,9 @@ pub(super) use forward_equations;
 
 impl Model for BoxedModel {
     forward_equations!(self => self.as_dyn());
+    fn aft_samples(&self) -> Option<usize> {
+        Model::aft_samples(self.as_dyn())
+    }
     fn param_value(&self, index: usize) -> f64 {
         Model::param_value(self.as_dyn(), index)
     }

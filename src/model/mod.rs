@@ -14,9 +14,12 @@ use num_dual::{Dual64, DualNum, HyperDual64};
 use std::borrow::Cow;
 
 mod boxed;
+pub mod kink;
 mod with_params;
+mod with_samples;
 pub use boxed::{BoxedModel, DynModel};
 pub use with_params::WithParams;
+pub use with_samples::WithSamples;
 
 /// The scalar types the solvers evaluate a residual in: `f64` (values), [`Dual64`]
 /// (first derivatives: Jacobians, ∂R/∂Ω, ∂R/∂θ) and [`HyperDual64`] (second
@@ -293,6 +296,12 @@ pub trait Model: Send + Sync {
         1
     }
 
+    /// Whether the expression outputs are smooth ([`Model::smooth`] for the outputs: a
+    /// tyre force `max(0, …)` is not), which sets how finely they are sampled.
+    fn outputs_smooth(&self) -> bool {
+        true
+    }
+
     /// Evaluate the expression outputs at one time sample, as [`Model::residual`]
     /// evaluates the equations: `signals` are the values of [`Model::output_signals`],
     /// `out` receives one value per [`OutputKind::Expression`] index. The default
@@ -311,6 +320,23 @@ pub trait Model: Send + Sync {
     /// Polynomial degree of the residual in the signals (1 for a linear model, 3 for
     /// a cubic spring). Sets the alias-free sample count.
     fn degree(&self) -> usize;
+
+    /// Whether the residual is smooth: `false` when it applies a non-smooth function
+    /// ([`kink`]: `max`, `min`, `abs`, `sign`) to signals or to time (a bump stop, an
+    /// asymmetric damper, a tyre that leaves the road). Such a term has harmonics
+    /// without end, so no sample count is alias-free: the transform then takes
+    /// [`crate::fourier::KINK_OVERSAMPLING`] times the samples the harmonics need, or
+    /// [`Model::aft_samples`]. The default `true` is what a polynomial model is.
+    fn smooth(&self) -> bool {
+        true
+    }
+
+    /// The samples per forcing period the transform takes, where the model is asked
+    /// to use a count of its own ([`WithSamples`], `--aft-samples`); `None` (the
+    /// default): the count [`crate::fourier::model_sample_count`] derives.
+    fn aft_samples(&self) -> Option<usize> {
+        None
+    }
 
     /// The highest harmonic of the time dependence (`cos(k Ω t)` with `k` up to this),
     /// forcing and parametric terms alike. Fewer harmonics than this are refused.

@@ -53,6 +53,9 @@ impl std::fmt::Debug for WithParams<'_> {
 
 impl Model for WithParams<'_> {
     forward_equations!(self => self.base);
+    fn aft_samples(&self) -> Option<usize> {
+        Model::aft_samples(self.base)
+    }
     fn param_value(&self, index: usize) -> f64 {
         self.values[index]
     }

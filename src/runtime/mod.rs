@@ -70,6 +70,8 @@ pub struct RuntimeModel {
     outputs: Vec<Output>,
     output_signals: Vec<Signal>,
     output_degree: usize,
+    outputs_smooth: bool,
+    smooth: bool,
     equations: Vec<Text>,
     degree: usize,
     max_harmonic: usize,
@@ -146,6 +148,8 @@ impl RuntimeModel {
                 .collect(),
             output_signals: a.output_signals.iter().map(signal).collect(),
             output_degree: a.output_degree() as usize,
+            outputs_smooth: a.outputs_smooth(),
+            smooth: shape.smooth,
             equations: checked.equations.iter().map(|e| Owned(e.clone())).collect(),
             degree: shape.degree as usize,
             max_harmonic: shape.max_harmonic.max(1) as usize,
@@ -240,6 +244,12 @@ impl Model for RuntimeModel {
     }
     fn degree(&self) -> usize {
         self.degree
+    }
+    fn smooth(&self) -> bool {
+        self.smooth
+    }
+    fn outputs_smooth(&self) -> bool {
+        self.outputs_smooth
     }
     fn max_forcing_harmonic(&self) -> usize {
         self.max_harmonic

@@ -7,7 +7,8 @@
 //! forcing values `cos/sin(k·phase)` as `f64`, so that a product with them costs a
 //! scaling instead of a dual product — the same economies as the generated code.
 
-use ihbm_dsl::analyze::{Alias, Func, Node, Trig};
+use crate::model::kink;
+use ihbm_dsl::analyze::{Alias, Func, Kink, Node, Trig};
 use num_dual::DualNum;
 
 /// Where an operand comes from.
@@ -38,6 +39,8 @@ enum Op {
     Powi(usize, i32),
     Func(Func, usize),
     Powf(usize, Arg),
+    /// A non-smooth function of one or two operands (the second unused by `abs`, `sign`).
+    Kink(Kink, Arg, Arg),
 }
 
 /// A compiled list of expressions over parameters, Ω, signals and time.
@@ -168,6 +171,12 @@ impl Program {
                     Some(y) => regs[a].powf(y),
                     None => regs[a].powd(r(b)),
                 },
+                Op::Kink(k, a, b) => match k {
+                    Kink::Max => kink::max(r(a), r(b)),
+                    Kink::Min => kink::min(r(a), r(b)),
+                    Kink::Abs => kink::abs(r(a)),
+                    Kink::Sign => kink::sign(r(a)),
+                },
             };
             regs[i] = v;
         }
@@ -269,6 +278,14 @@ impl Compiler<'_> {
                 let (a, b) = (self.node(x), self.node(y));
                 let r = self.reg(a);
                 self.push(Op::Powf(r, b))
+            }
+            Node::Kink(k, args) => {
+                let ops: Vec<Arg> = args.iter().map(|x| self.node(x)).collect();
+                let (a, b) = (ops[0], ops.get(1).copied().unwrap_or(Arg::Lit(0.0)));
+                match (a, b) {
+                    (Arg::Lit(u), Arg::Lit(v)) => Arg::Lit(k.eval(&[u, v][..k.arity()])),
+                    _ => self.push(Op::Kink(*k, a, b)),
+                }
             }
         }
     }

@@ -181,6 +181,7 @@ impl Hill {
     /// shares.
     pub fn with_period(model: &dyn DynModel, harmonics: usize, period: usize) -> Result<Hill> {
         crate::fourier::check_harmonics(harmonics)?;
+        crate::fourier::check_samples(model, harmonics, period)?;
         let ndof = model.dofs().len();
         crate::balance::check_size(ndof, harmonics)?;
         check_size(model, harmonics)?;

@@ -83,7 +83,8 @@ fn solve_json_matches_the_contract_and_the_linear_closed_form() {
             "iterations",
             "residual_norm",
             "stable",
-            "outputs"
+            "outputs",
+            "aft_samples"
         ]
     );
     assert_eq!(v["model"], "quarter-car");
@@ -1285,4 +1286,49 @@ fn study_values_outside_a_parameter_domain_name_file_line_and_column() {
         assert_rejected(&args, &n);
         assert_eq!(ihbm(&args).status.code(), Some(2), "{text}");
     }
+}
+
+#[test]
+fn aft_samples_are_reported_and_a_count_that_would_alias_is_refused() {
+    // A smooth model reports its alias-free count (the cubic at N = 5: 24).
+    let o = ihbm(&["solve", "duffing", "--omega", "1", "--json"]);
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["aft_samples"], 24);
+    let o = ihbm(&["solve", "duffing", "--omega", "1", "--aft-samples", "64", "--json"]);
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["aft_samples"], 64);
+    assert_rejected(
+        &["solve", "duffing", "--omega", "1", "--aft-samples", "16"],
+        &["invalid --aft-samples: 16", "at least 24 for model 'duffing' at N = 5"],
+    );
+    assert_rejected(
+        &[
+            "sweep",
+            "duffing",
+            "--from",
+            "1",
+            "--to",
+            "2",
+            "--harmonics",
+            "9",
+            "--aft-samples",
+            "12",
+        ],
+        &["invalid --aft-samples: 12", "at least 2N + 1 = 19"],
+    );
+    // A non-smooth model (a one-sided stop) takes 16 (2N + 1), rounded to a fast size.
+    let path = tmp("stop.ihbm");
+    std::fs::write(
+        &path,
+        "struct Stop { params { k = 1.0, F = 0.4 } dofs { x }\n\
+         equations { D(x, 2) + 0.1 * D(x, 1) + k * x + 10.0 * max(0.0, x - 0.5) = F * cos(omega * t); } }",
+    )
+    .unwrap();
+    let file = path.to_str().unwrap();
+    let o = ihbm(&["sweep", file, "--from", "0.3", "--to", "0.6", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["aft_samples"], 180);
+    let o = ihbm(&["sweep", file, "--from", "0.3", "--to", "0.6", "--aft-samples", "12", "--json"]);
+    assert!(o.status.success(), "a non-smooth model takes any count from 2N + 1: {}", stderr(&o));
 }

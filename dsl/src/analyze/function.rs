@@ -7,7 +7,7 @@
 use super::diag::{err, Sp};
 use super::lower::{Info, Lower};
 use super::syntax::{show, strip};
-use super::tree::{Check, Func, Node};
+use super::tree::{Check, Func, Kink, Node};
 use syn::Expr;
 
 impl Lower<'_> {
@@ -96,11 +96,12 @@ impl Lower<'_> {
                 format!(
                     "`{}` is not allowed: `{}` depends on the DOFs, and a function of a DOF \
                      is not polynomial; {} apply to coefficients (parameters, literals, \
-                     omega) only, and `cos`/`sin` also give forcing `cos(k * omega * t)` / \
-                     `sin(k * omega * t)`",
+                     omega) only, `cos`/`sin` also give forcing `cos(k * omega * t)` / \
+                     `sin(k * omega * t)`, and the non-smooth {} to anything",
                     show(e),
                     show(arg),
-                    Func::list()
+                    Func::list(),
+                    Kink::list()
                 ),
             );
         }

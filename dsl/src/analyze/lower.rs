@@ -11,7 +11,7 @@ use super::forcing::harmonic;
 use super::linear::{Group, LinearReader};
 use super::scope::{Name, Scope};
 use super::syntax::{ident_of, mentions_t, negative_powi_exponent, powi_exponent, show, strip};
-use super::tree::{Alias, Check, Func, Node, OrderKey, SignalKey, Trig};
+use super::tree::{Alias, Check, Func, Kink, Node, OrderKey, SignalKey, Trig};
 use crate::parse::{literal_value, Equation, LetDecl};
 use quote::ToTokens;
 use std::collections::BTreeMap;
@@ -20,8 +20,9 @@ use syn::{BinOp, Expr, Lit, UnOp};
 /// What the polynomial allows, repeated in several messages.
 const ALLOWED: &str = "allowed are parameters, DOFs, `let` aliases, numeric literals, `omega`, \
      `+ - *`, division by coefficients, `.powi(k)` with a literal k >= 0, `D(e, n)`, \
-     forcing `cos(k * omega * t)` / `sin(k * omega * t)`, and functions of coefficients \
-     (`sqrt`, `exp`, `ln`, `sin`, `cos`, `tan`, `abs`, `.powf(q)`)";
+     forcing `cos(k * omega * t)` / `sin(k * omega * t)`, functions of coefficients \
+     (`sqrt`, `exp`, `ln`, `sin`, `cos`, `tan`, `.powf(q)`), and the non-smooth \
+     `max(a, b)`, `min(a, b)`, `abs(e)`, `sign(e)` of anything";
 
 /// Where a subexpression holds a DOF-dependent and a forcing term, if it does: what the
 /// checks of products, quotients and powers look at, and where their messages point.
@@ -144,6 +145,17 @@ impl<'a> Lower<'a> {
             );
         }
         let (e, n) = (&c.args[0], &c.args[1]);
+        if let Some((at, k)) = kink_in(e) {
+            return err(
+                at,
+                format!(
+                    "`{}` is not allowed inside `D(e, n)`: e must be linear in the DOFs; a \
+                     non-smooth function of a derivative is written outside it, e.g. \
+                     `abs(D(y, 1))` or `max(0.0, D(y, 1))`",
+                    k.usage()
+                ),
+            );
+        }
         let order = self.order(n)?;
         let lin = self.linear().read(e)?;
         if !lin.konst.is_zero() {
@@ -296,6 +308,11 @@ impl<'a> Lower<'a> {
             let args: Vec<&Expr> = m.args.iter().collect();
             return self.powf(e, &m.receiver, &args);
         }
+        if let Some(k) = Kink::named(&name).filter(|k| k.arity() == m.args.len() + 1) {
+            let mut args = vec![&*m.receiver];
+            args.extend(m.args.iter());
+            return self.kink(e, k, &args);
+        }
         match Func::named(&name) {
             Some(f) if m.args.is_empty() => self.function(e, f, &m.receiver),
             _ => err(
@@ -317,6 +334,10 @@ impl<'a> Lower<'a> {
             return err(Sp::of(&c.func), format!("unsupported function: {ALLOWED}"));
         };
         let fname = f.to_string();
+        if let Some(k) = Kink::named(&fname) {
+            let args: Vec<&Expr> = c.args.iter().collect();
+            return self.kink(e, k, &args);
+        }
         match fname.as_str() {
             "D" => self.derivative(c),
             _ => match Func::named(&fname) {
@@ -336,12 +357,36 @@ impl<'a> Lower<'a> {
                     Sp::of(&f),
                     format!(
                         "unknown function `{fname}`: the functions are `D(e, n)`, forcing \
-                         `cos(k * omega * t)` / `sin(k * omega * t)`, and {} of coefficients",
-                        Func::list()
+                         `cos(k * omega * t)` / `sin(k * omega * t)`, {} and `abs` of \
+                         coefficients, and the non-smooth {} of anything",
+                        Func::list(),
+                        Kink::list()
                     ),
                 ),
             },
         }
+    }
+
+    /// A non-smooth function `k` of `args` (the whole call `e`). Of coefficients only it
+    /// is a coefficient (`abs(k)` as before, `sign(k - 1.0)`); of anything with DOFs or
+    /// forcing it is a kink of the residual.
+    fn kink(&mut self, e: &Expr, k: Kink, args: &[&Expr]) -> syn::Result<(Node, Info)> {
+        if args.len() != k.arity() {
+            let count = if k.arity() == 1 { "one argument" } else { "two arguments" };
+            return err(Sp::of(&e), format!("`{}` takes {count}: `{}`", k.name(), k.usage()));
+        }
+        let mut nodes = Vec::with_capacity(args.len());
+        let mut info = Info::default();
+        for a in args {
+            let (n, i) = self.value(a)?;
+            info = Info { dof: info.dof.or(i.dof), forcing: info.forcing.or(i.forcing) };
+            nodes.push(n);
+        }
+        if k == Kink::Abs && info.dof.is_none() && info.forcing.is_none() {
+            // A coefficient: the smooth-function path, which records its check.
+            return self.function(e, Func::Abs, args[0]);
+        }
+        Ok((Node::Kink(k, nodes), info))
     }
 
     fn forcing(&self, name: &str, k: u32, span: Sp) -> syn::Result<(Node, Info)> {
@@ -406,6 +451,28 @@ impl<'a> Lower<'a> {
                 format!("operator `{}` is not allowed: {ALLOWED}", b.op.to_token_stream()),
             ),
         }
+    }
+}
+
+/// The first non-smooth function called in `e`, with where it is written.
+fn kink_in(e: &Expr) -> Option<(Sp, Kink)> {
+    match e {
+        Expr::Paren(p) => kink_in(&p.expr),
+        Expr::Group(g) => kink_in(&g.expr),
+        Expr::Unary(u) => kink_in(&u.expr),
+        Expr::Binary(b) => kink_in(&b.left).or_else(|| kink_in(&b.right)),
+        Expr::Call(c) => {
+            let k = ident_of(&c.func).and_then(|f| Kink::named(&f.to_string()));
+            match k {
+                Some(k) => Some((Sp::of(&c), k)),
+                None => c.args.iter().find_map(kink_in),
+            }
+        }
+        Expr::MethodCall(m) => match Kink::named(&m.method.to_string()) {
+            Some(k) if k.arity() == m.args.len() + 1 => Some((Sp::of(&m), k)),
+            _ => kink_in(&m.receiver).or_else(|| m.args.iter().find_map(kink_in)),
+        },
+        _ => None,
     }
 }
 

@@ -21,6 +21,8 @@ struct Shape {
     max_k: u32,
     /// The highest harmonic of a time-varying factor multiplying signals.
     param_k: u32,
+    /// Whether a non-smooth function of signals or time is in it.
+    kinked: bool,
 }
 
 impl Shape {
@@ -33,6 +35,7 @@ impl Shape {
         self.degree = self.degree.max(o.degree);
         self.max_k = self.max_k.max(o.max_k);
         self.param_k = self.param_k.max(o.param_k);
+        self.kinked |= o.kinked;
         self
     }
 }
@@ -69,6 +72,19 @@ fn shape(n: &Node, aliases: &[Shape]) -> Shape {
             }
             out
         }
+        // A kink of signals or time: non-smooth, and not affine in any signal it holds
+        // (its gradient switches); its degree is its arguments' (it is homogeneous of
+        // degree one in them where it is not constant).
+        Node::Kink(_, args) => {
+            let mut out =
+                args.iter().fold(Shape::default(), |acc, a| acc.union(&shape(a, aliases)));
+            if !out.present.is_empty() || out.timed {
+                out.kinked = true;
+                let p = out.present.clone();
+                out.nonaffine.extend(p);
+            }
+            out
+        }
         Node::Powi(a, k) => match *k {
             0 => Shape::default(),
             1 => shape(a, aliases),
@@ -102,12 +118,20 @@ pub struct ModelShape {
     /// Per equation and signal (`e * signals + s`): the signal appears in the
     /// equation (through its aliases too), so its derivative there may be non-zero.
     pub reads: Vec<bool>,
+    /// Whether no equation applies a non-smooth function (`max`, `min`, `abs`, `sign`)
+    /// to signals or time.
+    pub smooth: bool,
 }
 
 impl Analysis {
     /// The polynomial degree of the expression outputs in their signals (at least 1).
     pub fn output_degree(&self) -> u32 {
         self.output_exprs.iter().map(|e| shape(e, &[]).degree).max().unwrap_or(1).max(1)
+    }
+
+    /// Whether no expression output applies a non-smooth function to signals or time.
+    pub fn outputs_smooth(&self) -> bool {
+        !self.output_exprs.iter().any(|e| shape(e, &[]).kinked)
     }
 
     /// The shape of the equations (aliases counted where they are used).
@@ -128,6 +152,7 @@ impl Analysis {
             affine: (0..self.signals.len()).map(|i| !s.nonaffine.contains(&i)).collect(),
             explicit_omega: s.omega,
             reads,
+            smooth: !s.kinked,
         }
     }
 }

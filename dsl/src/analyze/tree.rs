@@ -44,9 +44,14 @@ impl Func {
     pub const ALL: [Func; 7] =
         [Func::Sqrt, Func::Exp, Func::Ln, Func::Sin, Func::Cos, Func::Tan, Func::Abs];
 
-    /// The list of coefficient functions, for messages.
+    /// The list of coefficient-only functions, for messages (`abs` applies to DOF terms
+    /// too, as a [`Kink`]).
     pub fn list() -> String {
-        let names: Vec<String> = Func::ALL.iter().map(|f| format!("`{}`", f.name())).collect();
+        let names: Vec<String> = Func::ALL
+            .iter()
+            .filter(|f| **f != Func::Abs)
+            .map(|f| format!("`{}`", f.name()))
+            .collect();
         format!("{} and `.powf(q)`", names.join(", "))
     }
 
@@ -67,6 +72,81 @@ impl Func {
     /// The function called `name`, if there is one.
     pub fn named(name: &str) -> Option<Func> {
         Func::ALL.into_iter().find(|f| f.name() == name)
+    }
+}
+
+/// The non-smooth functions, which apply to any expression (DOFs, their derivatives,
+/// forcing): a bump stop `max(0, y - gap)`, an asymmetric damper, a tyre that cannot
+/// pull. A model that applies one to signals or time is not smooth, and its
+/// transform is sampled for accuracy rather than alias-free.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kink {
+    Max,
+    Min,
+    Abs,
+    Sign,
+}
+
+impl Kink {
+    /// Every one, in the order messages list them.
+    pub const ALL: [Kink; 4] = [Kink::Max, Kink::Min, Kink::Abs, Kink::Sign];
+
+    /// Its name in the DSL and in `ihbm::model::kink`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kink::Max => "max",
+            Kink::Min => "min",
+            Kink::Abs => "abs",
+            Kink::Sign => "sign",
+        }
+    }
+
+    /// The number of arguments.
+    pub fn arity(self) -> usize {
+        match self {
+            Kink::Max | Kink::Min => 2,
+            Kink::Abs | Kink::Sign => 1,
+        }
+    }
+
+    /// How it is written, for messages: `max(a, b)`.
+    pub fn usage(self) -> &'static str {
+        match self {
+            Kink::Max => "max(a, b)",
+            Kink::Min => "min(a, b)",
+            Kink::Abs => "abs(e)",
+            Kink::Sign => "sign(e)",
+        }
+    }
+
+    /// The one called `name`, if there is one.
+    pub fn named(name: &str) -> Option<Kink> {
+        Kink::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// `max(a, b)`, `min(a, b)`, `abs(e)` and `sign(e)`, for messages.
+    pub fn list() -> String {
+        let names: Vec<String> = Kink::ALL.iter().map(|k| format!("`{}`", k.usage())).collect();
+        names.join(", ")
+    }
+
+    /// Its value for plain numbers (what the generated code computes for constants).
+    pub fn eval(self, args: &[f64]) -> f64 {
+        let (a, b) = (args[0], args.get(1).copied().unwrap_or(0.0));
+        match self {
+            Kink::Max if a > b => a,
+            Kink::Max if a < b => b,
+            Kink::Min if a < b => a,
+            Kink::Min if a > b => b,
+            Kink::Max | Kink::Min => 0.5 * (a + b),
+            Kink::Abs if a < 0.0 => -a,
+            Kink::Abs if a == 0.0 => 0.0,
+            Kink::Abs => a,
+            Kink::Sign if a > 0.0 => 1.0,
+            Kink::Sign if a < 0.0 => -1.0,
+            Kink::Sign if a == 0.0 => 0.0,
+            Kink::Sign => f64::NAN,
+        }
     }
 }
 
@@ -102,6 +182,8 @@ pub enum Node {
     Func(Func, Box<Node>),
     /// `base.powf(exponent)`, both coefficients.
     Powf(Box<Node>, Box<Node>),
+    /// A non-smooth function of any expressions (one or two, [`Kink::arity`]).
+    Kink(Kink, Vec<Node>),
 }
 
 impl Node {
@@ -117,6 +199,7 @@ impl Node {
                 f(y);
             }
             Node::Neg(x) | Node::Powi(x, _) | Node::Func(_, x) => f(x),
+            Node::Kink(_, args) => args.iter().for_each(f),
             Node::Lit(_)
             | Node::Param(_)
             | Node::Omega
@@ -152,6 +235,7 @@ impl Node {
                 f(y);
             }
             Node::Neg(x) | Node::Powi(x, _) | Node::Func(_, x) => f(x),
+            Node::Kink(_, args) => args.iter_mut().for_each(f),
             _ => {}
         }
     }

@@ -217,6 +217,20 @@ pub(super) fn expr(n: &Node, alias_kinds: &[Kind]) -> (TokenStream, Kind) {
                 }
             }
         }
+        // `ihbm::model::kink` takes one scalar type: a constant operand next to a dual
+        // one is lifted.
+        Node::Kink(k, args) => {
+            let parts: Vec<(TokenStream, Kind)> =
+                args.iter().map(|a| expr(a, alias_kinds)).collect();
+            let f = format_ident!("{}", k.name());
+            let kind =
+                if parts.iter().all(|(_, k)| *k == Kind::Const) { Kind::Const } else { Kind::Dual };
+            let operands = parts.iter().map(|(t, k)| match (kind, k) {
+                (Kind::Dual, Kind::Const) => quote!(__IhbmD::from(#t)),
+                _ => t.clone(),
+            });
+            (quote!(::ihbm::model::kink::#f(#(#operands),*)), kind)
+        }
         Node::Powi(x, k) => {
             let (t, kind) = expr(x, alias_kinds);
             let code = match k {
