@@ -1,13 +1,13 @@
 //! The whole quarter-car curve, Ω from 1 to 100 rad/s, N = 5: with Hill stability at
 //! every point (the goal: about 1 ms on one core), and without it (and
-//! without its resonance peaks); one
+//! without its resonance peaks); the quarter car with stops and lift-off at N = 15; one
 //! stability analysis in full vs tracked from a neighbouring point; and a family of
 //! curves, one after the other and in parallel.
 use criterion::{criterion_group, criterion_main, Criterion};
 use ihbm::balance::Balance;
 use ihbm::continuation::{sweep, sweep_family, SweepOptions};
 use ihbm::corrector::{solve, SolveOptions};
-use ihbm::models::QuarterCar;
+use ihbm::models::{QuarterCar, QuarterCarRide};
 use ihbm::stability::{Hill, StabilityOptions};
 use std::hint::black_box;
 
@@ -29,6 +29,23 @@ fn quarter_car_curve(c: &mut Criterion) {
     let bare = SweepOptions { peaks: false, ..without.clone() };
     g.bench_function("quarter_car_1_100_N5_no_stability_no_peaks", |b| {
         b.iter(|| sweep(black_box(&car), 1.0, 100.0, &bare).expect("curve"))
+    });
+    // The quarter car with a bump stop, an asymmetric damper and tyre lift-off: kinks,
+    // so 500 samples per period at N = 15 instead of an alias-free count.
+    let ride = QuarterCarRide::default();
+    let n15 = SweepOptions { harmonics: 15, ..Default::default() };
+    let n15_bare = SweepOptions { stability: None, ..n15.clone() };
+    let curve = sweep(&ride, 2.0, 100.0, &n15).expect("ride curve");
+    eprintln!(
+        "ride quarter car 2..100 rad/s, N = 15: {} points, {:?}",
+        curve.points.len(),
+        curve.stats
+    );
+    g.bench_function("quarter_car_ride_2_100_N15_with_stability", |b| {
+        b.iter(|| sweep(black_box(&ride), 2.0, 100.0, &n15).expect("curve"))
+    });
+    g.bench_function("quarter_car_ride_2_100_N15_no_stability", |b| {
+        b.iter(|| sweep(black_box(&ride), 2.0, 100.0, &n15_bare).expect("curve"))
     });
     g.finish();
 }

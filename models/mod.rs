@@ -48,6 +48,7 @@ pub mod duffing;
 pub mod half_car;
 pub mod quadratic;
 pub mod quarter_car;
+pub mod quarter_car_ride;
 pub mod van_der_pol;
 
 pub use base_excited::BaseExcited;
@@ -56,6 +57,7 @@ pub use duffing::{Duffing, FractionalDuffing};
 pub use half_car::HalfCar;
 pub use quadratic::Quadratic;
 pub use quarter_car::QuarterCar;
+pub use quarter_car_ride::QuarterCarRide;
 pub use van_der_pol::VanDerPol;
 
 use crate::model::BoxedModel;
@@ -74,6 +76,7 @@ use crate::model::BoxedModel;
 pub fn builtin() -> Vec<BoxedModel> {
     vec![
         BoxedModel::new(QuarterCar::default()),
+        BoxedModel::new(QuarterCarRide::default()),
         BoxedModel::new(Duffing::default()),
         BoxedModel::new(FractionalDuffing::default()),
         BoxedModel::new(TwoMassChain::default()),

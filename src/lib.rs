@@ -91,6 +91,8 @@ pub mod book {
     pub struct Modes;
     #[doc = include_str!("../book/src/vehicles.md")]
     pub struct Vehicles;
+    #[doc = include_str!("../book/src/ride.md")]
+    pub struct Ride;
     #[doc = include_str!("../book/src/timedomain.md")]
     pub struct Timedomain;
     #[doc = include_str!("../book/src/snapshots.md")]

@@ -74,6 +74,17 @@ def _pairs(set):
     return [(str(k), float(v)) for k, v in dict(set).items()]
 
 
+def _count(aft_samples):
+    """``aft_samples`` as the engine takes it: ``None``, or a whole number >= 1."""
+    if aft_samples is None:
+        return None
+    n = int(aft_samples)
+    if n != aft_samples or n < 1:
+        raise ValueError(f"invalid aft_samples: {aft_samples!r} (expected a whole number "
+                         f"of samples per period, at least 2N + 1)")
+    return n
+
+
 class _Progress:
     """The ``progress`` keyword as a callable ``(points, value)`` for the engine, which
     calls it now and then while it runs: ``None`` is a tqdm bar when tqdm is
@@ -172,22 +183,26 @@ class Model:
     def __repr__(self):
         return f"ihbm.Model({self.name!r})"
 
-    def solve(self, omega, harmonics=DEFAULT_HARMONICS, set=None):
-        """The periodic solution at ``omega`` (rad/s): the ``solve`` JSON as a dict."""
-        return _json.loads(self._m.solve(float(omega), int(harmonics), _pairs(set)))
+    def solve(self, omega, harmonics=DEFAULT_HARMONICS, set=None, aft_samples=None):
+        """The periodic solution at ``omega`` (rad/s): the ``solve`` JSON as a dict.
+        ``aft_samples``: samples per period of the transform (default: the alias-free
+        count; 16 (2N + 1) for a model with ``max``/``min``/``abs``/``sign``)."""
+        return _json.loads(self._m.solve(float(omega), int(harmonics), _pairs(set),
+                                         _count(aft_samples)))
 
     def sweep(self, omega_from, omega_to, harmonics=DEFAULT_HARMONICS, set=None,
-              progress=None, **settings):
+              progress=None, aft_samples=None, **settings):
         """The amplitude–frequency curve from ``omega_from`` to ``omega_to`` (rad/s), a
         :class:`Curve`. ``settings`` are the study file's ``sweep`` keys
         (``max_step``, ``stability=False``, ``amplitude_bound="rel:1e3"``, ...);
-        ``progress`` as described in the README (``False``: no bar). Ctrl-C raises
-        :class:`Interrupted` with the curve traced so far."""
+        ``progress`` as described in the README (``False``: no bar); ``aft_samples`` as
+        for :meth:`solve`. Ctrl-C raises :class:`Interrupted` with the curve traced so
+        far."""
         bar = _Progress(progress, f"sweep {self.name}", "omega")
         try:
             text, columns, stopped_by = self._m.sweep(
                 float(omega_from), float(omega_to), int(harmonics), _pairs(set),
-                _json.dumps(settings), bar.call)
+                _json.dumps(settings), bar.call, _count(aft_samples))
         finally:
             bar.close()
         curve = Curve(_json.loads(text))
@@ -195,7 +210,7 @@ class Model:
         return _finish(curve, stopped_by)
 
     def sweep_param(self, param, value_from, value_to, omega, harmonics=DEFAULT_HARMONICS,
-                    set=None, progress=None, **settings):
+                    set=None, progress=None, aft_samples=None, **settings):
         """The response at fixed ``omega`` as parameter ``param`` goes from
         ``value_from`` to ``value_to``; as :meth:`sweep` (the first column is named
         after the parameter, as in the CSV)."""
@@ -203,7 +218,7 @@ class Model:
         try:
             text, columns, stopped_by = self._m.sweep_param(
                 str(param), float(value_from), float(value_to), float(omega), int(harmonics),
-                _pairs(set), _json.dumps(settings), bar.call)
+                _pairs(set), _json.dumps(settings), bar.call, _count(aft_samples))
         finally:
             bar.close()
         curve = Curve(_json.loads(text))
@@ -216,14 +231,15 @@ class Model:
         return _json.loads(self._m.simulate(float(omega), _pairs(set), periods, dt, scheme))
 
     def backbone(self, to, mode=1, output=None, harmonics=DEFAULT_HARMONICS, set=None,
-                 progress=None):
+                 progress=None, aft_samples=None):
         """Nonlinear mode ``mode`` continued until max|output| = ``to``: the
         ``backbone`` JSON as a dict. Progress and Ctrl-C as for :meth:`sweep`
         (:class:`Interrupted` carries the points traced, ``"ended": "stopped"``)."""
         bar = _Progress(progress, f"backbone of {self.name}", "max|x|")
         try:
             text, stopped_by = self._m.backbone(float(to), int(mode), int(harmonics),
-                                                _pairs(set), output, bar.call)
+                                                _pairs(set), output, bar.call,
+                                                _count(aft_samples))
         finally:
             bar.close()
         return _finish(_json.loads(text), stopped_by)

@@ -62,6 +62,7 @@ class Model:
         omega: float,
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
+        aft_samples: Optional[int] = None,
     ) -> _Result: ...
     def sweep(
         self,
@@ -70,6 +71,7 @@ class Model:
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
         progress: _ProgressArg = None,
+        aft_samples: Optional[int] = None,
         **settings: _Settings,
     ) -> Curve: ...
     def sweep_param(
@@ -81,6 +83,7 @@ class Model:
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
         progress: _ProgressArg = None,
+        aft_samples: Optional[int] = None,
         **settings: _Settings,
     ) -> Curve: ...
     def simulate(
@@ -99,6 +102,7 @@ class Model:
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
         progress: _ProgressArg = None,
+        aft_samples: Optional[int] = None,
     ) -> _Result: ...
     def folds(
         self,

@@ -34,7 +34,9 @@ class NativeModel:
     def equations(self) -> List[str]: ...
     @property
     def params(self) -> List[Tuple[str, float, str]]: ...
-    def solve(self, omega: float, harmonics: int, set: _Pairs) -> str: ...
+    def solve(
+        self, omega: float, harmonics: int, set: _Pairs, aft_samples: Optional[int] = None
+    ) -> str: ...
     def sweep(
         self,
         omega_from: float,
@@ -43,6 +45,7 @@ class NativeModel:
         set: _Pairs,
         settings: str,
         progress: _Progress = None,
+        aft_samples: Optional[int] = None,
     ) -> _SweepOut: ...
     def sweep_param(
         self,
@@ -54,6 +57,7 @@ class NativeModel:
         set: _Pairs,
         settings: str,
         progress: _Progress = None,
+        aft_samples: Optional[int] = None,
     ) -> _SweepOut: ...
     def simulate(
         self,
@@ -71,6 +75,7 @@ class NativeModel:
         set: _Pairs,
         output: Optional[str] = None,
         progress: _Progress = None,
+        aft_samples: Optional[int] = None,
     ) -> Tuple[str, Optional[BaseException]]: ...
     def folds(
         self,

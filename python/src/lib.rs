@@ -239,6 +239,21 @@ impl NativeModel {
         }
         Ok(m)
     }
+
+    /// [`NativeModel::configured`], with the transform taking `aft_samples` samples per
+    /// period if given (checked at `harmonics`).
+    fn sampled(
+        &self,
+        set: &[(String, f64)],
+        aft_samples: Option<usize>,
+        harmonics: usize,
+    ) -> PyResult<NamedModel> {
+        let mut m = self.configured(set)?;
+        if let Some(s) = aft_samples {
+            m.set_aft_samples(s, harmonics, "aft_samples").map_err(py_err)?;
+        }
+        Ok(m)
+    }
 }
 
 fn json_text(v: &serde_json::Value) -> String {
@@ -320,24 +335,28 @@ impl NativeModel {
     }
 
     /// The solve JSON.
+    #[pyo3(signature = (omega, harmonics, set, aft_samples=None))]
     fn solve(
         &self,
         py: Python<'_>,
         omega: f64,
         harmonics: usize,
         set: Vec<(String, f64)>,
+        aft_samples: Option<usize>,
     ) -> PyResult<String> {
-        let m = self.configured(&set)?;
+        let m = self.sampled(&set, aft_samples, harmonics)?;
         let analysis = Analysis::Solve { omega, settings: SolveSettings { harmonics } };
         let Outcome::Solved(rec) = whole(py, &m, &analysis)? else {
             return Err(mismatch(&analysis));
         };
-        Ok(json_text(&report::solve_json(&rec)))
+        let mut v = report::solve_json(&rec);
+        v["aft_samples"] = m.samples(harmonics).into();
+        Ok(json_text(&v))
     }
 
     /// The sweep JSON, the columns and what stopped it early, of a frequency sweep.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (omega_from, omega_to, harmonics, set, settings, progress=None))]
+    #[pyo3(signature = (omega_from, omega_to, harmonics, set, settings, progress=None, aft_samples=None))]
     fn sweep<'py>(
         &self,
         py: Python<'py>,
@@ -347,8 +366,9 @@ impl NativeModel {
         set: Vec<(String, f64)>,
         settings: &str,
         progress: Option<Py<PyAny>>,
+        aft_samples: Option<usize>,
     ) -> PyResult<SweepOut<'py>> {
-        let m = self.configured(&set)?;
+        let m = self.sampled(&set, aft_samples, harmonics)?;
         let settings = sweep_settings(harmonics, settings)?;
         let analysis = Analysis::Sweep { from: omega_from, to: omega_to, settings };
         let (Outcome::Curve(curve), stopped_by) = run(py, &m, &analysis, progress)? else {
@@ -359,7 +379,7 @@ impl NativeModel {
 
     /// As `sweep`, for a parameter sweep at fixed Ω.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (param, value_from, value_to, omega, harmonics, set, settings, progress=None))]
+    #[pyo3(signature = (param, value_from, value_to, omega, harmonics, set, settings, progress=None, aft_samples=None))]
     fn sweep_param<'py>(
         &self,
         py: Python<'py>,
@@ -371,8 +391,9 @@ impl NativeModel {
         set: Vec<(String, f64)>,
         settings: &str,
         progress: Option<Py<PyAny>>,
+        aft_samples: Option<usize>,
     ) -> PyResult<SweepOut<'py>> {
-        let m = self.configured(&set)?;
+        let m = self.sampled(&set, aft_samples, harmonics)?;
         let settings = sweep_settings(harmonics, settings)?;
         let param = param.to_string();
         let analysis =
@@ -411,7 +432,7 @@ impl NativeModel {
     /// The backbone JSON of mode `mode`, continued until max|output| = `to`, and the
     /// exception that stopped it early, if any.
     #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (to, mode, harmonics, set, output=None, progress=None))]
+    #[pyo3(signature = (to, mode, harmonics, set, output=None, progress=None, aft_samples=None))]
     fn backbone(
         &self,
         py: Python<'_>,
@@ -421,8 +442,9 @@ impl NativeModel {
         set: Vec<(String, f64)>,
         output: Option<String>,
         progress: Option<Py<PyAny>>,
+        aft_samples: Option<usize>,
     ) -> PyResult<(String, Option<Py<PyAny>>)> {
-        let m = self.configured(&set)?;
+        let m = self.sampled(&set, aft_samples, harmonics)?;
         let analysis = Analysis::Backbone(BackboneSettings { mode, output, to, harmonics });
         let (Outcome::Backbone(b), stopped_by) = run(py, &m, &analysis, progress)? else {
             return Err(mismatch(&analysis));

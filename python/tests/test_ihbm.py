@@ -207,3 +207,37 @@ def test_quarter_car_cusps_obey_the_cubic_scaling_law():
         cusps = [c["value"] for c in f["cusps"] if c["kind"] == "cusp"]
         least.append(min(cusps) * math.sqrt(k3))
     assert abs(least[1] / least[0] - 1) < 1e-7
+
+
+def test_expression_outputs_and_a_bump_stop_from_python():
+    # The quarter car's body acceleration is Ω²|Z1| (the linear closed form: the bump
+    # stop never engages here), and a model with a kink reports the samples its
+    # transform took, which aft_samples changes.
+    text = """
+    pub struct Car {
+        params { m1 = 240.0, m2 = 30.0, k1 = 16000.0, kt = 160000.0, c = 1000.0, F = 0.01 }
+        dofs { z1, z2 }
+        let bump = 1e6 * max(0.0, z2 - z1 - 0.05);
+        equations {
+            m1 * D(z1, 2) + k1 * (z1 - z2) + c * D(z1 - z2, 1) - bump = 0.0;
+            m2 * D(z2, 2) + kt * (z2 - F * cos(omega * t)) - k1 * (z1 - z2) - c * D(z1 - z2, 1)
+                + bump = 0.0;
+        }
+        outputs { z1, acc = D(z1, 2), bump }
+    }"""
+    car = ihbm.Model(text)
+    w = 9.0
+    k = 16000.0 + 1000.0j * w
+    a11, a12, a22 = k - 240.0 * w * w, -k, k + 160000.0 - 30.0 * w * w
+    z1 = -a12 * 160000.0 * 0.01 / (a11 * a22 - a12 * a12)
+    r = car.solve(w, harmonics=3)
+    assert abs(r["outputs"]["acc"]["amp1"] - w * w * abs(z1)) < 1e-9 * w * w * abs(z1)
+    assert r["outputs"]["bump"]["max_abs"] == 0.0
+    assert r["aft_samples"] == 120  # 16 (2N + 1) = 112 at N = 3, up to a fast FFT size
+    assert car.solve(w, harmonics=3, aft_samples=64)["aft_samples"] == 64
+    with pytest.raises(ValueError, match="invalid aft_samples: 5"):
+        car.solve(w, harmonics=3, aft_samples=5)
+    with pytest.raises(ValueError, match="invalid aft_samples: 2.5"):
+        car.sweep(1.0, 2.0, aft_samples=2.5)
+    ride = ihbm.Model.builtin("quarter-car-ride")
+    assert {"acc", "travel", "tyre", "air"} <= set(ride.outputs)

@@ -1332,3 +1332,32 @@ fn aft_samples_are_reported_and_a_count_that_would_alias_is_refused() {
     let o = ihbm(&["sweep", file, "--from", "0.3", "--to", "0.6", "--aft-samples", "12", "--json"]);
     assert!(o.status.success(), "a non-smooth model takes any count from 2N + 1: {}", stderr(&o));
 }
+
+#[test]
+fn the_ride_study_runs_and_its_claims_hold() {
+    // The book's chapter on stops and lift-off: the wheel leaves the road only at the
+    // larger road amplitudes, and the bump stop trades travel for acceleration.
+    let dir = tmp("ride");
+    let study = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/quarter_car_ride.toml");
+    let o = ihbm(&["run", study, "--out", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(dir.join("summary.md")).unwrap();
+    assert!(summary.contains("4 agree, 0 disagree, 0 inconclusive"), "{summary}");
+    for f in ["ride_lift_off.svg", "ride_bump_stop.svg"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    // At 5 mm the wheel never leaves the road; at 15 mm it does.
+    let curve = |f: &str| -> Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(f)).unwrap()).unwrap()
+    };
+    let air = |v: &Value| {
+        v["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["outputs"]["air"]["max_abs"].as_f64().unwrap())
+            .fold(0.0, f64::max)
+    };
+    assert_eq!(air(&curve("ride_lift_off_F_0.005.json")), 0.0);
+    assert!(air(&curve("ride_lift_off_F_0.015.json")) > 0.01);
+}

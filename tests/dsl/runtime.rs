@@ -13,8 +13,8 @@ use crate::equivalence::{coeffs, harmonic_check, sample_check};
 use crate::model_text::bodies;
 use ihbm::continuation::{sweep, SweepOptions};
 use ihbm::models::{
-    BaseExcited, Duffing, FractionalDuffing, HalfCar, Quadratic, QuarterCar, TwoMassChain,
-    VanDerPol,
+    BaseExcited, Duffing, FractionalDuffing, HalfCar, Quadratic, QuarterCar, QuarterCarRide,
+    TwoMassChain, VanDerPol,
 };
 use ihbm::runtime::RuntimeModel;
 use ihbm::{Error, Model};
@@ -70,6 +70,24 @@ fn twin_of<M: Model>(compiled: &M, runtime: &RuntimeModel, omega: f64) {
     );
     assert_eq!(runtime.affine_signals(), compiled.affine_signals());
     assert_eq!(runtime.explicit_omega(), compiled.explicit_omega());
+    assert_eq!(runtime.outputs(), compiled.outputs());
+    assert_eq!(runtime.output_signals(), compiled.output_signals());
+    assert_eq!(
+        (runtime.smooth(), runtime.outputs_smooth(), runtime.output_degree()),
+        (compiled.smooth(), compiled.outputs_smooth(), compiled.output_degree())
+    );
+    // The expression outputs at the same samples, to rounding.
+    let (no, nos) = (compiled.outputs().len(), compiled.output_signals().len());
+    let params = compiled.param_values();
+    for phase in [0.3, 4.0] {
+        let os: Vec<f64> = (0..nos).map(|i| 0.011 * (2.0 + (i as f64).cos())).collect();
+        let (mut a, mut b) = (vec![0.0; no], vec![0.0; no]);
+        runtime.output_values(&params, omega, phase, &os, &mut a);
+        compiled.output_values(&params, omega, phase, &os, &mut b);
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).abs() <= 1e-12 * y.abs().max(1.0), "{x} vs {y}");
+        }
+    }
     let ns = compiled.signals().len();
     for (k, phase) in [0.0, 0.7, 2.9, 5.1].into_iter().enumerate() {
         let sig: Vec<f64> = (0..ns).map(|i| 0.013 * (1.0 + ((i + 3 * k) as f64).sin())).collect();
@@ -96,6 +114,7 @@ fn every_built_in_model_read_at_run_time_is_the_compiled_one() {
     twin_of(&Quadratic::default(), &from_source("quadratic.rs", 0), 0.9);
     twin_of(&VanDerPol::default(), &from_source("van_der_pol.rs", 0), 1.0);
     twin_of(&HalfCar::default(), &from_source("half_car.rs", 0), 22.0);
+    twin_of(&QuarterCarRide::default(), &from_source("quarter_car_ride.rs", 0), 60.0);
 }
 
 #[test]
@@ -182,9 +201,11 @@ fn unreadable_huge_and_missing_model_files_are_refused_with_their_place() {
 }
 
 #[test]
-fn the_example_model_file_is_the_built_in_quarter_car() {
+fn the_example_model_files_are_the_built_in_quarter_cars() {
     let m = RuntimeModel::from_file(&root().join("examples/quarter_car.ihbm")).unwrap();
     twin_of(&QuarterCar::default(), &m, 8.0);
+    let m = RuntimeModel::from_file(&root().join("examples/quarter_car_ride.ihbm")).unwrap();
+    twin_of(&QuarterCarRide::default(), &m, 60.0);
 }
 
 ihbm::oscillator! {
