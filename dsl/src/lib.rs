@@ -66,9 +66,23 @@ impl std::fmt::Display for Diagnostic {
 /// a file of ten thousand `(` must be an error, not a stack overflow.
 pub const MAX_NESTING: usize = 200;
 
+/// The most arithmetic operators [`read`] accepts in one expression: the parser and
+/// the checks recurse once per operator of a chain `x + x + ...`, and a chain of tens
+/// of thousands must be an error, not a stack overflow. Longer sums are written in
+/// parts, as `let` aliases.
+pub const MAX_OPERATORS: usize = 10_000;
+
+/// The stack [`read`] needs for the longest expression it accepts (a chain of
+/// [`MAX_OPERATORS`] recurses that deep in the parser and the checks, and again when
+/// the result is dropped): run it on a thread with this much (only what is used is
+/// touched), as `ihbm`'s reader of model files does.
+pub const STACK_BYTES: usize = 256 << 20;
+
 /// Parse and check the text of one `oscillator!` body (`pub struct Name { ... }`).
+/// Run on a stack of [`STACK_BYTES`] where the text is not trusted to be short.
 pub fn read(text: &str) -> Result<Checked, Vec<Diagnostic>> {
     nesting(text)?;
+    operators(text)?;
     let def: ModelDef = syn::parse_str(text).map_err(diagnostics)?;
     let analysis = analyze::analyze(&def).map_err(diagnostics)?;
     let name = def.model_name.as_ref().map_or_else(|| kebab(&def.ident.to_string()), |s| s.value());
@@ -104,6 +118,49 @@ fn nesting(text: &str) -> Result<(), Vec<Diagnostic>> {
                 }
             }
             ')' | ']' | '}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Refuse an expression (what lies between `;`, `,`, `{` and `}`) with more than
+/// [`MAX_OPERATORS`] operators, comments and strings aside.
+fn operators(text: &str) -> Result<(), Vec<Diagnostic>> {
+    let mut count = 0usize;
+    let (mut line, mut column) = (1, 0);
+    let mut chars = text.chars().peekable();
+    let (mut comment, mut string) = (false, false);
+    while let Some(ch) = chars.next() {
+        column += 1;
+        if ch == '\n' {
+            (line, column, comment) = (line + 1, 0, false);
+            continue;
+        }
+        if comment {
+            continue;
+        }
+        if string {
+            string = ch != '"';
+            continue;
+        }
+        match ch {
+            '/' if chars.peek() == Some(&'/') => comment = true,
+            '"' => string = true,
+            ';' | ',' | '{' | '}' => count = 0,
+            '+' | '-' | '*' | '/' => {
+                count += 1;
+                if count > MAX_OPERATORS {
+                    return Err(vec![Diagnostic {
+                        line,
+                        column,
+                        message: format!(
+                            "more than {MAX_OPERATORS} operators in one expression: write a \
+                             long sum in parts, as `let` aliases"
+                        ),
+                    }]);
+                }
+            }
             _ => {}
         }
     }
@@ -154,6 +211,31 @@ mod tests {
         assert_eq!(super::kebab("FractionalDuffing"), "fractional-duffing");
         assert_eq!(super::kebab("Two_Mass"), "two-mass");
         assert_eq!(super::kebab("Chain3"), "chain3");
+    }
+
+    #[test]
+    fn a_sum_too_long_to_recurse_on_is_an_error_a_long_one_is_not() {
+        let model = |terms: usize| {
+            format!(
+                "struct S {{ params {{ k = 1.0 }} dofs {{ x }}\n\
+                 // a comment's - and + do not count: - - - -\n\
+                 equations {{ D(x, 2) + k * x{} = 0.0; }} outputs {{ s = x{} }} }}",
+                " + x".repeat(terms),
+                " - x".repeat(terms)
+            )
+        };
+        // On the stack the reader asks for, the longest accepted chain is read.
+        let long = model(super::MAX_OPERATORS - 5);
+        let ok = std::thread::Builder::new()
+            .stack_size(super::STACK_BYTES)
+            .spawn(move || super::read(&long).is_ok())
+            .unwrap()
+            .join()
+            .unwrap();
+        assert!(ok);
+        let e = super::read(&model(20_000)).err().unwrap();
+        assert_eq!(e[0].line, 3);
+        assert!(e[0].message.starts_with("more than 10000 operators in one expression"), "{e:?}");
     }
 
     #[test]

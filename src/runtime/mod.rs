@@ -96,6 +96,26 @@ impl RuntimeModel {
         if text.len() > MAX_TEXT_BYTES {
             return Err(too_large(origin, text.len() as u64));
         }
+        // The reader recurses once per operator of a long sum: it runs on a stack of its
+        // own, whatever thread asks (a test's, a Python worker's).
+        std::thread::scope(|s| {
+            let reader = std::thread::Builder::new()
+                .stack_size(ihbm_dsl::STACK_BYTES)
+                .spawn_scoped(s, || RuntimeModel::build(text, origin));
+            match reader {
+                Ok(handle) => handle.join().unwrap_or_else(|_| {
+                    Err(Error::ModelText {
+                        origin: origin.to_string(),
+                        diagnostics: format!("{origin}: the model reader stopped unexpectedly"),
+                    })
+                }),
+                Err(_) => RuntimeModel::build(text, origin),
+            }
+        })
+    }
+
+    /// [`RuntimeModel::from_text`] on the calling thread.
+    fn build(text: &str, origin: &str) -> Result<RuntimeModel, Error> {
         let checked = ihbm_dsl::read(text).map_err(|d| Error::ModelText {
             origin: origin.to_string(),
             diagnostics: d.iter().map(|d| format!("{origin}:{d}")).collect::<Vec<_>>().join("\n"),

@@ -253,7 +253,17 @@ fn a_one_sided_stop_matches_an_integration_with_located_contacts() {
     let text = "struct Stop { params { c = 0.1, k = 1.0, ks = 10.0, g = 0.5, F = 0.4 } dofs { x }
         equations { D(x, 2) + c * D(x, 1) + k * x + ks * max(0.0, x - g) = F * cos(omega * t); } }";
     let model = RuntimeModel::from_text(text, "stop.ihbm").unwrap();
-    // Traced up from below, where the stop is not reached.
+    // Newton from rest at this frequency does not find the motion on the stop (the
+    // contact it starts without is too far from the one it must reach): it says so and
+    // keeps its last iterate, whole and finite. Traced up from below, where the stop is
+    // not reached, continuation does.
+    match solve(&model, stop.w, &SolveOptions { harmonics: 40, ..Default::default() }, None) {
+        Err(ihbm::Error::NotConverged { last, iterations, .. }) => {
+            assert_eq!(last.len(), 81);
+            assert!(iterations == 50 && last.iter().all(|v| v.is_finite()));
+        }
+        other => panic!("expected no convergence from rest: {other:?}"),
+    }
     let opts = SweepOptions { harmonics: 40, stability: None, ..Default::default() };
     let curve = sweep(&model, 0.3, stop.w, &opts).unwrap();
     let x = &curve.points.last().unwrap().outputs[0];

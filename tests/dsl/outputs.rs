@@ -225,3 +225,48 @@ proptest! {
         prop_assert!((rms - mean_square.sqrt()).abs() <= 1e-12 * rms.max(1e-300));
     }
 }
+
+#[test]
+fn a_sum_of_twenty_thousand_terms_is_refused_and_one_of_ten_thousand_read() {
+    // Read at run time (from a test thread's small stack): the reader recurses per
+    // operator, on a stack of its own.
+    let model = |terms: usize| {
+        format!(
+            "struct S {{ params {{ k = 1.0 }} dofs {{ x }}\n equations {{ D(x, 2) + k * x = \
+             cos(omega * t); }}\n outputs {{ s = x{} }} }}",
+            " + x".repeat(terms)
+        )
+    };
+    let e = RuntimeModel::from_text(&model(20_000), "long.ihbm").err().unwrap().to_string();
+    assert!(e.contains("long.ihbm:3:") && e.contains("more than 10000 operators"), "{e}");
+    let m = RuntimeModel::from_text(&model(9_990), "long.ihbm").unwrap();
+    let sol = solve(&m, 0.5, &SolveOptions::default(), None).unwrap();
+    let out = sol.outputs(&m);
+    // s = 9991 x, an exact combination of DOFs.
+    assert!(matches!(m.outputs()[0].kind, OutputKind::Dofs(_)));
+    assert!((out[0].amp1 - 9991.0 * 1.0 / (1.0 - 0.25)).abs() < 1e-9 * out[0].amp1);
+}
+
+#[test]
+fn the_half_cars_wheel_travel_with_parameter_coefficients_is_an_output() {
+    // zf = z + a θ − yf has a parameter coefficient: an expression output, whose
+    // coefficients are the DOFs' combined with a = 1.3 (computed here from the DOF
+    // outputs of the same solution).
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/models/half_car.rs"))
+        .unwrap();
+    let body = crate::model_text::bodies(&text)[0]
+        .replace("outputs { z, theta, yf, yr }", "outputs { z, theta, yf, yr, wheel = zf }");
+    let m = RuntimeModel::from_text(&body, "half_car.ihbm").unwrap();
+    assert!(matches!(m.outputs()[4].kind, OutputKind::Expression(_)));
+    let sol = solve(&m, 9.0, &SolveOptions::default(), None).unwrap();
+    let out = sol.outputs(&m);
+    let a = m.param("a").unwrap();
+    for k in 0..out[0].cos.len() {
+        let want = |v: fn(&ihbm::results::OutputSummary) -> &Vec<f64>| {
+            v(&out[0])[k] + a * v(&out[1])[k] - v(&out[2])[k]
+        };
+        let (c, s) = (want(|o| &o.cos), want(|o| &o.sin));
+        assert!((out[4].cos[k] - c).abs() < 1e-12 * out[4].max_abs, "cos {k}");
+        assert!((out[4].sin[k] - s).abs() < 1e-12 * out[4].max_abs, "sin {k}");
+    }
+}

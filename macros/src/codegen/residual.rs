@@ -20,24 +20,7 @@ pub fn residual(a: &Analysis) -> TokenStream {
     let locals = locals(&uses(a.equations.iter().chain(used)));
     let (alias_kinds, alias_lets) = aliases(a);
     let body = assignments(&a.equations, &alias_kinds);
-    let nout = a.equations.len();
-    quote! {
-        #[inline]
-        #[allow(unused_variables, unused_parens, clippy::all)]
-        fn residual<__IhbmD: ::ihbm::num_dual::DualNum<Primitive = f64> + Copy>(
-            &self,
-            __params: &[__IhbmD],
-            __omega: __IhbmD,
-            __phase: f64,
-            __signals: &[__IhbmD],
-            __out: &mut [__IhbmD],
-        ) {
-            let __out = &mut __out[..#nout];
-            #locals
-            #(#alias_lets)*
-            #body
-        }
-    }
+    sample_fn(quote!(residual), a.equations.len(), quote!(#locals #(#alias_lets)* #body))
 }
 
 /// `fn output_values` (the expression outputs, aliases expanded), generic over the
@@ -48,10 +31,15 @@ pub fn output_values(a: &Analysis) -> TokenStream {
     }
     let locals = locals(&uses(a.output_exprs.iter()));
     let body = assignments(&a.output_exprs, &[]);
-    let nout = a.output_exprs.len();
+    sample_fn(quote!(output_values), a.output_exprs.len(), quote!(#locals #body))
+}
+
+/// A method evaluated at one sample (the residual's signature), writing `nout` values.
+fn sample_fn(name: TokenStream, nout: usize, body: TokenStream) -> TokenStream {
     quote! {
+        #[inline]
         #[allow(unused_variables, unused_parens, clippy::all)]
-        fn output_values<__IhbmD: ::ihbm::num_dual::DualNum<Primitive = f64> + Copy>(
+        fn #name<__IhbmD: ::ihbm::num_dual::DualNum<Primitive = f64> + Copy>(
             &self,
             __params: &[__IhbmD],
             __omega: __IhbmD,
@@ -60,7 +48,6 @@ pub fn output_values(a: &Analysis) -> TokenStream {
             __out: &mut [__IhbmD],
         ) {
             let __out = &mut __out[..#nout];
-            #locals
             #body
         }
     }
