@@ -218,7 +218,77 @@ pub fn output_summaries(at: &At, coeffs: &[f64], harmonics: usize) -> Vec<Output
     OutputEval::new(at.model, harmonics, at.period).summaries(at, coeffs)
 }
 
+/// How the solution's coefficients move with each parameter of `params` (indices):
+/// `dA/dθ = −J⁻¹ ∂R/∂θ`, the implicit derivative of `R(A, Ω, θ) = 0` at fixed Ω, with
+/// the Jacobian factorised once and one back-substitution per parameter (`∂R/∂θ` from
+/// dual numbers, through a fractional order's `(ikΩ)^p` too). `None` where the
+/// Jacobian is singular (a fold in θ: the derivative does not exist there).
+pub fn coefficient_rates(
+    model: &dyn DynModel,
+    sol: &Solution,
+    params: &[usize],
+) -> Result<Option<Vec<Vec<f64>>>> {
+    let mut hb = Balance::with_period(model, sol.harmonics, sol.period)?;
+    let n = hb.len();
+    let mut lu = DenseLu::new(n);
+    let mut r = vec![0.0; n];
+    hb.jacobian(&sol.coeffs, sol.omega, &mut r, lu.matrix_mut());
+    let pivots = lu.factor();
+    if pivots.is_nan() || pivots <= 1e-15 {
+        return Ok(None);
+    }
+    let mut rates = Vec::with_capacity(params.len());
+    for &i in params {
+        let mut d = vec![0.0; n];
+        hb.d_param(&sol.coeffs, sol.omega, i, &mut d);
+        d.iter_mut().for_each(|v| *v = -*v);
+        lu.solve(&mut d);
+        rates.push(d);
+    }
+    Ok(Some(rates))
+}
+
 impl Solution {
+    /// The design sensitivities of every output's statistics: per parameter of
+    /// `params` (indices), per output, the rates of change as the parameter moves and
+    /// the solution follows it at fixed Ω ([`coefficient_rates`]); every rate `None`
+    /// on a fold.
+    ///
+    /// ```
+    /// use ihbm::corrector::{solve, SolveOptions};
+    /// use ihbm::models::Duffing;
+    /// use ihbm::Model;
+    /// // Without its cubic spring the response is proportional to the force.
+    /// let d = Duffing { k3: 0.0, ..Default::default() };
+    /// let sol = solve(&d, 0.5, &SolveOptions::default(), None).unwrap();
+    /// let f = d.param_index("F").unwrap();
+    /// let rates = sol.output_rates(&d, &[f]).unwrap();
+    /// let da = rates[0][0].amp1.unwrap();
+    /// assert!((da - sol.outputs(&d)[0].amp1 / d.F).abs() < 1e-9 * da);
+    /// ```
+    pub fn output_rates(
+        &self,
+        model: &dyn DynModel,
+        params: &[usize],
+    ) -> Result<Vec<Vec<crate::results::OutputRates>>> {
+        let values = model.param_values();
+        let at = At { model, params: &values, omega: self.omega, period: self.period };
+        let mut eval = OutputEval::new(model, self.harmonics, self.period);
+        let outputs = model.outputs().len();
+        let Some(rates) = coefficient_rates(model, self, params)? else {
+            return Ok(vec![vec![crate::results::OutputRates::NONE; outputs]; params.len()]);
+        };
+        Ok(params
+            .iter()
+            .zip(&rates)
+            .map(|(&i, dc)| {
+                let dir =
+                    crate::outputs::Direction { coeffs: dc, omega: 0.0, param: Some((i, 1.0)) };
+                eval.rates(&at, &self.coeffs, &dir)
+            })
+            .collect())
+    }
+
     /// Summaries of every output of `model` (the model this solution came from).
     pub fn outputs(&self, model: &dyn DynModel) -> Vec<OutputSummary> {
         let params = model.param_values();

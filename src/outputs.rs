@@ -11,7 +11,7 @@ use crate::fourier::{
     MaxAbs,
 };
 use crate::model::{combine_blocks, DynModel, Model, Order, OutputKind};
-use crate::results::{OutputSummary, PointOutput};
+use crate::results::{OutputRates, OutputSummary, PointOutput};
 use num_complex::Complex64;
 use num_dual::Dual64;
 
@@ -231,6 +231,39 @@ impl OutputEval {
             let (sign, theta) = self.argmax[k];
             out.push(sign * crate::fourier::eval(&self.buf, theta));
         }
+    }
+
+    /// The rates of change of every output's statistics as the solution `coeffs` moves
+    /// along `dir` (per unit of whatever `dir` is the rate of: a parameter, for design
+    /// sensitivities). The extremes move with the value at the instant they are
+    /// reached (the envelope theorem); the amplitude and the RMS as their formulas
+    /// say, and not at all where they are zero (no derivative there).
+    pub fn rates(&mut self, at: &At, coeffs: &[f64], dir: &Direction) -> Vec<OutputRates> {
+        let nh = self.harmonics;
+        self.evaluate(at, coeffs);
+        self.derive(at, dir);
+        (0..self.outputs.len())
+            .map(|k| {
+                self.load(coeffs, k);
+                let x = self.buf.clone();
+                let e = self.peaks.extremes(&x);
+                let (_, sign, theta) = e.max_abs();
+                let (amp1, rms) = (x[1].hypot(x[nh + 1]), rms(&x));
+                self.load_rate(dir, k);
+                let dx = &self.buf;
+                let at_instant = |t: f64| Some(crate::fourier::eval(dx, t));
+                let power: f64 = x[0] * dx[0]
+                    + 0.5 * x[1..].iter().zip(&dx[1..]).map(|(a, b)| a * b).sum::<f64>();
+                OutputRates {
+                    max_abs: at_instant(theta).map(|v| sign * v),
+                    mean: Some(dx[0]),
+                    amp1: (amp1 > 0.0).then(|| (x[1] * dx[1] + x[nh + 1] * dx[nh + 1]) / amp1),
+                    rms: (rms > 0.0).then(|| power / rms),
+                    min: at_instant(e.at_min),
+                    max: at_instant(e.at_max),
+                }
+            })
+            .collect()
     }
 
     /// The statistics of the output in the buffer, the sign of `x` and the instant

@@ -46,6 +46,31 @@ impl OutputSummary {
     }
 }
 
+/// The rates of change of an output's statistics with one parameter, along the
+/// solution (`d/dθ` of each [`PointOutput`] field); `None` where the derivative does
+/// not exist (the amplitude or RMS of an output that is zero, a solution on a fold).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct OutputRates {
+    /// `d max_abs / dθ`, at the instant of the maximum (the envelope theorem).
+    pub max_abs: Option<f64>,
+    /// `d mean / dθ`.
+    pub mean: Option<f64>,
+    /// `d amp1 / dθ`.
+    pub amp1: Option<f64>,
+    /// `d rms / dθ`.
+    pub rms: Option<f64>,
+    /// `d min / dθ`, at the instant of the minimum.
+    pub min: Option<f64>,
+    /// `d max / dθ`, at the instant of the maximum.
+    pub max: Option<f64>,
+}
+
+impl OutputRates {
+    /// Rates that do not exist (a solution on a fold, where `dA/dθ` is unbounded).
+    pub const NONE: OutputRates =
+        OutputRates { max_abs: None, mean: None, amp1: None, rms: None, min: None, max: None };
+}
+
 /// The per-point summary of one output on a curve: statistics of its truncated
 /// Fourier series over one period.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -534,6 +559,10 @@ pub struct SolveRecord {
     /// Why Newton could not start, when it could not (a Jacobian singular at the
     /// start: the record then holds the start, `x = 0`, and its residual).
     pub failure: Option<String>,
+    /// Per parameter asked for (name), per output: the rates of change of the
+    /// statistics ([`OutputRates`]); empty when none was asked for, every rate `None`
+    /// when Newton did not converge.
+    pub sensitivities: Vec<(String, Vec<OutputRates>)>,
 }
 
 /// Steady statistics of one output of a time integration.

@@ -9,6 +9,8 @@ mod boxed;
 mod linear;
 #[path = "core/newton.rs"]
 mod newton;
+#[path = "core/sensitivities.rs"]
+mod sensitivities;
 #[path = "core/spectral.rs"]
 mod spectral;
 #[path = "core/structure.rs"]

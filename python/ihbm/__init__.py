@@ -183,12 +183,16 @@ class Model:
     def __repr__(self):
         return f"ihbm.Model({self.name!r})"
 
-    def solve(self, omega, harmonics=DEFAULT_HARMONICS, set=None, aft_samples=None):
+    def solve(self, omega, harmonics=DEFAULT_HARMONICS, set=None, aft_samples=None,
+              sensitivity=None):
         """The periodic solution at ``omega`` (rad/s): the ``solve`` JSON as a dict.
         ``aft_samples``: samples per period of the transform (default: the alias-free
-        count; 16 (2N + 1) for a model with ``max``/``min``/``abs``/``sign``)."""
+        count; 16 (2N + 1) for a model with ``max``/``min``/``abs``/``sign``).
+        ``sensitivity``: parameter names; each output then has ``"sensitivities"``,
+        the rates of change of its statistics per unit of each parameter."""
+        names = [sensitivity] if isinstance(sensitivity, str) else list(sensitivity or [])
         return _json.loads(self._m.solve(float(omega), int(harmonics), _pairs(set),
-                                         _count(aft_samples)))
+                                         _count(aft_samples), [str(n) for n in names]))
 
     def sweep(self, omega_from, omega_to, harmonics=DEFAULT_HARMONICS, set=None,
               progress=None, aft_samples=None, **settings):

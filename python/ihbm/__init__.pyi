@@ -1,5 +1,5 @@
 from os import PathLike
-from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 from matplotlib.axes import Axes
 
@@ -63,6 +63,7 @@ class Model:
         harmonics: int = ...,
         set: Optional[Mapping[str, float]] = None,
         aft_samples: Optional[int] = None,
+        sensitivity: Union[str, Sequence[str], None] = None,
     ) -> _Result: ...
     def sweep(
         self,

@@ -35,7 +35,12 @@ class NativeModel:
     @property
     def params(self) -> List[Tuple[str, float, str]]: ...
     def solve(
-        self, omega: float, harmonics: int, set: _Pairs, aft_samples: Optional[int] = None
+        self,
+        omega: float,
+        harmonics: int,
+        set: _Pairs,
+        aft_samples: Optional[int] = None,
+        sensitivity: List[str] = ...,
     ) -> str: ...
     def sweep(
         self,

@@ -335,7 +335,7 @@ impl NativeModel {
     }
 
     /// The solve JSON.
-    #[pyo3(signature = (omega, harmonics, set, aft_samples=None))]
+    #[pyo3(signature = (omega, harmonics, set, aft_samples=None, sensitivity=Vec::new()))]
     fn solve(
         &self,
         py: Python<'_>,
@@ -343,9 +343,11 @@ impl NativeModel {
         harmonics: usize,
         set: Vec<(String, f64)>,
         aft_samples: Option<usize>,
+        sensitivity: Vec<String>,
     ) -> PyResult<String> {
         let m = self.sampled(&set, aft_samples, harmonics)?;
-        let analysis = Analysis::Solve { omega, settings: SolveSettings { harmonics } };
+        let analysis =
+            Analysis::Solve { omega, settings: SolveSettings { harmonics, sensitivity } };
         let Outcome::Solved(rec) = whole(py, &m, &analysis)? else {
             return Err(mismatch(&analysis));
         };

@@ -241,3 +241,16 @@ def test_expression_outputs_and_a_bump_stop_from_python():
         car.sweep(1.0, 2.0, aft_samples=2.5)
     ride = ihbm.Model.builtin("quarter-car-ride")
     assert {"acc", "travel", "tyre", "air"} <= set(ride.outputs)
+
+
+def test_solve_sensitivities_are_the_closed_forms_derivative():
+    # The linear quarter car's body amplitude is linear in the road amplitude F:
+    # d amp1 / dF = amp1 / F exactly; an unknown parameter names itself.
+    car = ihbm.Model.builtin("quarter-car")
+    r = car.solve(8.0, set={"k3": 0.0}, sensitivity=["F", "p"])
+    z1 = r["outputs"]["z1"]
+    assert list(z1["sensitivities"]) == ["F", "p"]
+    assert abs(z1["sensitivities"]["F"]["amp1"] - z1["amp1"] / 0.01) < 1e-9 * z1["amp1"] / 0.01
+    assert car.solve(8.0, sensitivity="c")["outputs"]["y"]["sensitivities"]["c"]["rms"] < 0
+    with pytest.raises(ValueError, match="unknown parameter"):
+        car.solve(8.0, sensitivity=["q"])

@@ -40,6 +40,10 @@ pub enum Command {
         /// alias-free count; for a non-smooth model 16 (2N + 1)].
         #[arg(long, value_name = "M")]
         aft_samples: Option<usize>,
+        /// Report how every output's statistics move with parameter P (repeatable):
+        /// implicit derivatives along the solution, at fixed Ω.
+        #[arg(long, value_name = "P")]
+        sensitivity: Vec<String>,
         /// Override a parameter, e.g. `--set k3=3e6` (repeatable).
         #[arg(long = "set", value_name = "P=V")]
         set: Vec<String>,

@@ -21,9 +21,10 @@ use std::sync::Arc;
 pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Result<(), Failure> {
     match cmd {
         Command::Models { name } => models(reg, name.as_deref(), out),
-        Command::Solve { name, omega, harmonics, aft_samples, set, json } => {
+        Command::Solve { name, omega, harmonics, aft_samples, sensitivity, set, json } => {
             let model = configured(reg, &name, &set, aft_samples, harmonics)?;
-            let analysis = Analysis::Solve { omega, settings: SolveSettings { harmonics } };
+            let settings = SolveSettings { harmonics, sensitivity };
+            let analysis = Analysis::Solve { omega, settings };
             let what = format!("solving {name} at Ω = {omega} rad/s");
             let Outcome::Solved(rec) = computed(&model, &analysis, &what)?.0 else {
                 return Err(mismatch(&analysis));
@@ -49,6 +50,14 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
                         (o.name.as_str(), [o.max_abs, o.mean, o.amp1, o.rms, o.min, o.max])
                     });
                     stats_table(out, rows)?;
+                    for (p, rates) in &rec.sensitivities {
+                        w(out, format_args!("rates of change per unit of {p} (NaN: none):\n"))?;
+                        let rows = rec.outputs.iter().zip(rates).map(|(o, r)| {
+                            let v = [r.max_abs, r.mean, r.amp1, r.rms, r.min, r.max];
+                            (o.name.as_str(), v.map(|x| x.unwrap_or(f64::NAN)))
+                        });
+                        stats_table(out, rows)?;
+                    }
                 }
             }
             if rec.converged {

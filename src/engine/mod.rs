@@ -29,11 +29,13 @@ pub use settings::SweepSettings;
 pub struct SolveSettings {
     /// Number of harmonics N (>= 1).
     pub harmonics: usize,
+    /// The parameters whose sensitivities every output reports (none by default).
+    pub sensitivity: Vec<String>,
 }
 
 impl Default for SolveSettings {
     fn default() -> Self {
-        SolveSettings { harmonics: crate::fourier::DEFAULT_HARMONICS }
+        SolveSettings { harmonics: crate::fourier::DEFAULT_HARMONICS, sensitivity: Vec::new() }
     }
 }
 
@@ -116,6 +118,8 @@ impl ArgNames {
 /// carries `converged: false` and the last iterate.
 fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRecord> {
     let opts = SolveOptions { harmonics: s.harmonics, ..SolveOptions::default() };
+    let indices =
+        s.sensitivity.iter().map(|p| model.param_index(p)).collect::<Result<Vec<usize>>>()?;
     let mut failure = None;
     let (coeffs, converged, iterations, residual_norm) =
         match corrector::solve(model, omega, &opts, None) {
@@ -135,6 +139,22 @@ fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRec
             Err(e) => return Err(e),
         };
     let stability = stability(model, omega, s.harmonics, &coeffs, converged);
+    let nout = model.outputs().len();
+    let rates = if converged && !indices.is_empty() {
+        let sol = corrector::Solution {
+            omega,
+            harmonics: s.harmonics,
+            period: 1,
+            coeffs: coeffs.clone(),
+            iterations,
+            residual_norm,
+            history: Vec::new(),
+        };
+        sol.output_rates(model, &indices)?
+    } else {
+        vec![vec![crate::results::OutputRates::NONE; nout]; indices.len()]
+    };
+    let sensitivities = s.sensitivity.iter().cloned().zip(rates).collect();
     Ok(SolveRecord {
         model: model.name().to_string(),
         omega,
@@ -149,6 +169,7 @@ fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRec
             s.harmonics,
         ),
         failure,
+        sensitivities,
     })
 }
 

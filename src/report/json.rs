@@ -43,6 +43,12 @@ pub fn solve_json(r: &SolveRecord) -> Value {
         "residual_norm": r.residual_norm, "stable": r.stability.verdict(),
         "outputs": summaries(&r.outputs),
     });
+    // Each output's sensitivities, by parameter, where any was asked for.
+    for (param, rates) in &r.sensitivities {
+        for (o, rate) in r.outputs.iter().zip(rates) {
+            v["outputs"][&o.name]["sensitivities"][param] = json!(rate);
+        }
+    }
     // The extension: why Newton could not start (absent when it could).
     if let (Some(why), Some(m)) = (&r.failure, v.as_object_mut()) {
         m.insert("failure".into(), json!(why));

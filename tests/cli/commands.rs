@@ -1361,3 +1361,36 @@ fn the_ride_study_runs_and_its_claims_hold() {
     assert_eq!(air(&curve("ride_lift_off_F_0.005.json")), 0.0);
     assert!(air(&curve("ride_lift_off_F_0.015.json")) > 0.01);
 }
+
+#[test]
+fn solve_reports_sensitivities_of_every_output_and_refuses_an_unknown_parameter() {
+    // The linear quarter car far below resonance: the body follows the road, so
+    // d amp1(z1)/dF is about amp1 / F (the response is linear in F: exactly that).
+    let o = ihbm(&[
+        "solve",
+        "quarter-car",
+        "--omega",
+        "3",
+        "--set",
+        "k3=0",
+        "--sensitivity",
+        "F",
+        "--sensitivity",
+        "k1",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let z1 = &v["outputs"]["z1"];
+    assert_eq!(keys(&z1["sensitivities"]), ["F", "k1"]);
+    assert_eq!(keys(&z1["sensitivities"]["F"]), STATS);
+    let (amp, rate) =
+        (z1["amp1"].as_f64().unwrap(), z1["sensitivities"]["F"]["amp1"].as_f64().unwrap());
+    assert!((rate - amp / 0.01).abs() < 1e-9 * rate, "{rate} vs {}", amp / 0.01);
+    // The mean of a linear response does not move: 0 (a number, not null).
+    assert!(z1["sensitivities"]["k1"]["mean"].as_f64().unwrap().abs() < 1e-12);
+    assert_rejected(
+        &["solve", "quarter-car", "--omega", "3", "--sensitivity", "q"],
+        &["unknown parameter", "q"],
+    );
+}
