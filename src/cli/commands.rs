@@ -191,7 +191,13 @@ pub(super) fn execute(reg: &Registry, cmd: Command, out: &mut dyn Write) -> Resu
             let Outcome::Backbone(b) = computed(&model, &analysis, &what)?.0 else {
                 return Err(mismatch(&analysis));
             };
-            write_backbone(&b, csv.as_deref(), json.as_deref(), plot.as_deref(), out)
+            let files = BackboneFiles {
+                csv: csv.as_deref(),
+                json: json.as_deref(),
+                plot: plot.as_deref(),
+                samples: model.samples(harmonics),
+            };
+            write_backbone(&b, &files, out)
         }
         Command::Cycle { name, omega, harmonics, set, param, from, to, json, csv, plot } => {
             let model = configured(reg, &name, &set, None, 1)?;
@@ -302,13 +308,16 @@ enum Branch {
 
 /// Write a backbone: CSV, SVG, and the JSON or a human summary; a backbone that did
 /// not reach its amplitude is written, then reported as a failure.
-fn write_backbone(
-    b: &Backbone,
-    csv: Option<&Path>,
-    json: Option<&str>,
-    plot: Option<&Path>,
-    out: &mut dyn Write,
-) -> Result<(), Failure> {
+/// Where a backbone goes, and the transform's samples per period it was computed with.
+struct BackboneFiles<'a> {
+    csv: Option<&'a Path>,
+    json: Option<&'a str>,
+    plot: Option<&'a Path>,
+    samples: usize,
+}
+
+fn write_backbone(b: &Backbone, files: &BackboneFiles, out: &mut dyn Write) -> Result<(), Failure> {
+    let (csv, json, plot) = (files.csv, files.json, files.plot);
     if let Some(path) = csv {
         report::write_file(path, &report::backbone_csv(b)).map_err(Failure::failed)?;
     }
@@ -319,7 +328,9 @@ fn write_backbone(
         report::write_file(path, &svg).map_err(Failure::failed)?;
     }
     if let Some(target) = json {
-        emit_json(&report::backbone_json(b), target, out)?;
+        let mut v = report::backbone_json(b);
+        v["aft_samples"] = files.samples.into();
+        emit_json(&v, target, out)?;
     } else if let (Some(first), Some(last)) = (b.points.first(), b.points.last()) {
         w(out, format_args!(
             "{}: mode {} backbone, N = {}: {} points, {}\n  linear: ω = {:.6} rad/s, D = {:.6e}\n  last:   ω = {:.6} rad/s, D = {:.6e} at max |{name}| = {:.6e}\n",

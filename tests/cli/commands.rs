@@ -1329,6 +1329,10 @@ fn aft_samples_are_reported_and_a_count_that_would_alias_is_refused() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(v["aft_samples"], 180);
+    let o =
+        ihbm(&["backbone", "duffing", "--to", "0.5", "--set", "c=0", "--harmonics", "7", "--json"]);
+    let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(v["aft_samples"], 30, "the cubic at N = 7: 4 N + 1 = 29, a fast size up");
     let o = ihbm(&["sweep", file, "--from", "0.3", "--to", "0.6", "--aft-samples", "12", "--json"]);
     assert!(o.status.success(), "a non-smooth model takes any count from 2N + 1: {}", stderr(&o));
 }
