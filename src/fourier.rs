@@ -70,17 +70,30 @@ pub fn sample_count(degree: usize, harmonics: usize, max_forcing: usize) -> usiz
 /// assert_eq!(model_sample_count(&Duffing::default(), 5, 1), sample_count(3, 5, 1));
 /// ```
 pub fn model_sample_count(model: &dyn DynModel, harmonics: usize, period: usize) -> usize {
-    let period = period.max(1);
-    if let Some(m) = model.aft_samples() {
-        return m.saturating_mul(period);
+    match model.aft_samples() {
+        Some(m) => m.saturating_mul(period.max(1)),
+        None => derived_count(model, model.degree(), model.smooth(), harmonics, period),
     }
+}
+
+/// The count terms of `degree` in the signals of `model` need at `harmonics`
+/// harmonics of `Ω / period`: alias-free where they are `smooth`, else
+/// [`KINK_OVERSAMPLING`] times the coefficients (or the alias-free count if larger).
+fn derived_count(
+    model: &dyn DynModel,
+    degree: usize,
+    smooth: bool,
+    harmonics: usize,
+    period: usize,
+) -> usize {
+    let period = period.max(1);
     let alias_free = samples(
-        model.degree(),
+        degree,
         harmonics,
         model.max_forcing_harmonic().saturating_mul(period),
         model.parametric_harmonic().saturating_mul(period),
     );
-    if model.smooth() {
+    if smooth {
         alias_free
     } else {
         fast_size(alias_free.max(KINK_OVERSAMPLING.saturating_mul(coeff_len(harmonics))))
@@ -119,12 +132,7 @@ pub fn check_samples(model: &dyn DynModel, harmonics: usize, period: usize) -> R
         });
     }
     if model.smooth() {
-        let alias_free = samples(
-            model.degree(),
-            harmonics,
-            model.max_forcing_harmonic().saturating_mul(period),
-            model.parametric_harmonic().saturating_mul(period),
-        );
+        let alias_free = derived_count(model, model.degree(), true, harmonics, period);
         if total < alias_free {
             return Err(Error::InvalidValue {
                 what: "samples per period of the transform".into(),
@@ -149,22 +157,10 @@ pub fn check_samples(model: &dyn DynModel, harmonics: usize, period: usize) -> R
 /// [`Model::outputs_smooth`](crate::model::Model::outputs_smooth)) in place of the
 /// residual's, and no fewer than [`Model::aft_samples`](crate::model::Model::aft_samples).
 pub fn output_sample_count(model: &dyn DynModel, harmonics: usize, period: usize) -> usize {
-    let period = period.max(1);
-    let alias_free = samples(
-        model.output_degree(),
-        harmonics,
-        model.max_forcing_harmonic().saturating_mul(period),
-        model.parametric_harmonic().saturating_mul(period),
-    );
-    // A non-smooth output (or a solution of a non-smooth model, whose harmonics the
-    // count of `model_sample_count` serves) takes at least that count.
-    let own = if model.outputs_smooth() {
-        alias_free
-    } else {
-        fast_size(alias_free.max(KINK_OVERSAMPLING.saturating_mul(coeff_len(harmonics))))
-    };
+    let own =
+        derived_count(model, model.output_degree(), model.outputs_smooth(), harmonics, period);
     match model.aft_samples() {
-        Some(m) => own.max(m.saturating_mul(period)),
+        Some(m) => own.max(m.saturating_mul(period.max(1))),
         None => own,
     }
 }
@@ -210,6 +206,23 @@ pub fn spectral_factor(k: usize, omega: f64, order: f64) -> Complex64 {
     let w = k as f64 * omega;
     let mag = if order.fract() == 0.0 { w.powi(order as i32) } else { w.powf(order) };
     rotation(order) * mag
+}
+
+/// `∂/∂q` of the multiplier `(ikΩ)^q`: `(ikΩ)^q ln(ikΩ)`, with `ln(ikΩ) = ln(kΩ) +
+/// iπ/2`; 0 for `k = 0`. How a signal moves with its fractional order.
+///
+/// ```
+/// use ihbm::fourier::{order_rate, spectral_factor};
+/// let (k, w, q, h) = (3, 2.0, 0.5, 1e-6);
+/// let fd = (spectral_factor(k, w, q + h) - spectral_factor(k, w, q - h)) / (2.0 * h);
+/// assert!((order_rate(k, w, q) - fd).norm() < 1e-8);
+/// ```
+pub fn order_rate(k: usize, omega: f64, order: f64) -> Complex64 {
+    if k == 0 {
+        return Complex64::new(0.0, 0.0);
+    }
+    spectral_factor(k, omega, order)
+        * Complex64::new((k as f64 * omega).ln(), std::f64::consts::FRAC_PI_2)
 }
 
 /// Multiply harmonic `k` of `coeffs` (one DOF) by `factor(k)`, writing into `out`.

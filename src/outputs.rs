@@ -7,12 +7,11 @@
 //! serves the corrector's one-off summaries and the continuation's per-point ones.
 
 use crate::fourier::{
-    apply_factor, apply_order, coeff_len, output_sample_count, rms, spectral_factor, Fourier,
-    MaxAbs,
+    apply_factor, apply_order, coeff_len, order_rate, output_sample_count, rms, spectral_factor,
+    Fourier, MaxAbs,
 };
 use crate::model::{combine_blocks, DynModel, Model, Order, OutputKind};
 use crate::results::{OutputRates, OutputSummary, PointOutput};
-use num_complex::Complex64;
 use num_dual::Dual64;
 
 /// Where a solution's outputs are evaluated: the model, its parameter values, and the
@@ -148,9 +147,11 @@ impl OutputEval {
             Kind::Dofs(t) => combine_blocks(t, coeffs, &mut self.buf),
             Kind::Expression(i) => {
                 let len = self.buf.len();
-                // `exprs` exists whenever an output is an expression.
-                if let Some(e) = &self.exprs {
-                    self.buf.copy_from_slice(&e.coeffs[i * len..(i + 1) * len]);
+                // `exprs` exists whenever an output is an expression and its transform
+                // could be planned (the balance of the same model refuses first).
+                match &self.exprs {
+                    Some(e) => self.buf.copy_from_slice(&e.coeffs[i * len..(i + 1) * len]),
+                    None => self.buf.fill(f64::NAN),
                 }
             }
         }
@@ -171,8 +172,9 @@ impl OutputEval {
             Kind::Dofs(t) => combine_blocks(t, dir.coeffs, &mut self.buf),
             Kind::Expression(i) => {
                 let len = self.buf.len();
-                if let Some(e) = &self.exprs {
-                    self.buf.copy_from_slice(&e.dcoeffs[i * len..(i + 1) * len]);
+                match &self.exprs {
+                    Some(e) => self.buf.copy_from_slice(&e.dcoeffs[i * len..(i + 1) * len]),
+                    None => self.buf.fill(f64::NAN),
                 }
             }
         }
@@ -251,16 +253,16 @@ impl OutputEval {
                 let (amp1, rms) = (x[1].hypot(x[nh + 1]), rms(&x));
                 self.load_rate(dir, k);
                 let dx = &self.buf;
-                let at_instant = |t: f64| Some(crate::fourier::eval(dx, t));
+                let at_instant = |t: f64| crate::fourier::eval(dx, t);
                 let power: f64 = x[0] * dx[0]
                     + 0.5 * x[1..].iter().zip(&dx[1..]).map(|(a, b)| a * b).sum::<f64>();
                 OutputRates {
-                    max_abs: at_instant(theta).map(|v| sign * v),
+                    max_abs: Some(sign * at_instant(theta)),
                     mean: Some(dx[0]),
                     amp1: (amp1 > 0.0).then(|| (x[1] * dx[1] + x[nh + 1] * dx[nh + 1]) / amp1),
                     rms: (rms > 0.0).then(|| power / rms),
-                    min: at_instant(e.at_min),
-                    max: at_instant(e.at_max),
+                    min: Some(at_instant(e.at_min)),
+                    max: Some(at_instant(e.at_max)),
                 }
             })
             .collect()
@@ -387,13 +389,9 @@ impl Exprs {
             if (dir.omega != 0.0 || dq != 0.0) && at.omega > 0.0 {
                 combine_blocks(terms, &self.last, &mut self.comb);
                 let mut moved = vec![0.0; len];
+                let dw = q * dir.omega / at.omega;
                 apply_factor(&self.comb, &mut moved, |k| {
-                    if k == 0 {
-                        return Complex64::new(0.0, 0.0);
-                    }
-                    let w = k as f64 * at.omega;
-                    let ln = Complex64::new(w.ln(), std::f64::consts::FRAC_PI_2);
-                    spectral_factor(k, at.omega, q) * (q * dir.omega / at.omega + dq * ln)
+                    spectral_factor(k, at.omega, q) * dw + order_rate(k, at.omega, q) * dq
                 });
                 for (o, v) in self.op.iter_mut().zip(&moved) {
                     *o += v;

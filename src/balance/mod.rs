@@ -13,13 +13,14 @@
 //! it, so a block costs `O(N²)` instead of a dense `O(N² M)` sample sum.
 
 use crate::error::{Error, Result};
-use crate::fourier::{apply_factor, coeff_len, model_sample_count, spectral_factor, Fourier};
+use crate::fourier::{
+    apply_factor, coeff_len, model_sample_count, order_rate, spectral_factor, Fourier,
+};
 use crate::linalg::Columns;
 use crate::model::{DynModel, Model, Order};
 use faer::MatMut;
 use num_complex::Complex64;
 use num_dual::Dual64;
-use std::f64::consts::FRAC_PI_2;
 
 mod linear;
 mod second;
@@ -604,14 +605,7 @@ impl<'m> Balance<'m> {
             self.seeded[s] = true;
             crate::model::combine_blocks(&sig.terms, a, &mut self.comb);
             let q = self.orders[s];
-            apply_factor(&self.comb, &mut self.op, |k| {
-                if k == 0 {
-                    Complex64::new(0.0, 0.0)
-                } else {
-                    spectral_factor(k, omega, q)
-                        * Complex64::new((k as f64 * omega).ln(), FRAC_PI_2)
-                }
-            });
+            apply_factor(&self.comb, &mut self.op, |k| order_rate(k, omega, q));
             self.fourier.synthesize(&self.op, &mut self.dsig[s * m..(s + 1) * m]);
         }
         self.directional(omega, 0.0, Some(index), out);

@@ -10,11 +10,10 @@
 //! the residual, so the samples that are alias-free for `R` are for these too.
 
 use super::Balance;
-use crate::fourier::{apply_factor, spectral_factor};
+use crate::fourier::{apply_factor, order_rate};
 use crate::model::{Model, Order};
 use num_complex::Complex64;
 use num_dual::HyperDual64;
-use std::f64::consts::FRAC_PI_2;
 
 /// Buffers of [`Balance::bilinear_gradient`], sized for one balance and reused.
 #[derive(Debug, Clone)]
@@ -214,14 +213,7 @@ impl Balance<'_> {
                 let lam = &self.lam[s * (self.n + 1)..(s + 1) * (self.n + 1)];
                 apply_factor(&self.comb, &mut self.op, |k| lam[k]);
             }
-            true => apply_factor(&self.comb, &mut self.op, |k| {
-                if k == 0 {
-                    Complex64::new(0.0, 0.0)
-                } else {
-                    spectral_factor(k, omega, q)
-                        * Complex64::new((k as f64 * omega).ln(), FRAC_PI_2)
-                }
-            }),
+            true => apply_factor(&self.comb, &mut self.op, |k| order_rate(k, omega, q)),
         }
         self.fourier.synthesize(&self.op, out);
     }

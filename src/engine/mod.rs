@@ -121,9 +121,17 @@ fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRec
     let indices =
         s.sensitivity.iter().map(|p| model.param_index(p)).collect::<Result<Vec<usize>>>()?;
     let mut failure = None;
+    let nout = model.outputs().len();
+    // Without a converged solution the rates do not exist.
+    let mut rates = vec![vec![crate::results::OutputRates::NONE; nout]; indices.len()];
     let (coeffs, converged, iterations, residual_norm) =
         match corrector::solve(model, omega, &opts, None) {
-            Ok(sol) => (sol.coeffs, true, sol.iterations, sol.residual_norm),
+            Ok(sol) => {
+                if !indices.is_empty() {
+                    rates = sol.output_rates(model, &indices)?;
+                }
+                (sol.coeffs, true, sol.iterations, sol.residual_norm)
+            }
             Err(Error::NotConverged { last, iterations, residual_norm, .. }) => {
                 (last, false, iterations, residual_norm)
             }
@@ -139,21 +147,6 @@ fn solve(model: &dyn DynModel, omega: f64, s: &SolveSettings) -> Result<SolveRec
             Err(e) => return Err(e),
         };
     let stability = stability(model, omega, s.harmonics, &coeffs, converged);
-    let nout = model.outputs().len();
-    let rates = if converged && !indices.is_empty() {
-        let sol = corrector::Solution {
-            omega,
-            harmonics: s.harmonics,
-            period: 1,
-            coeffs: coeffs.clone(),
-            iterations,
-            residual_norm,
-            history: Vec::new(),
-        };
-        sol.output_rates(model, &indices)?
-    } else {
-        vec![vec![crate::results::OutputRates::NONE; nout]; indices.len()]
-    };
     let sensitivities = s.sensitivity.iter().cloned().zip(rates).collect();
     Ok(SolveRecord {
         model: model.name().to_string(),
